@@ -1,0 +1,50 @@
+"""rigidrs: rigid bodies and position-based bodies, with measured accuracy.
+
+Describe what to simulate in a :class:`Scene`, compile it with
+:meth:`Scene.build` into a :class:`World`, step it, and read its state through
+NumPy views (``world.bodies.position`` and friends). SI units, z up, quaternions
+in (x, y, z, w) order.
+"""
+from ._core import (
+    INTEGRATORS,
+    Bodies,
+    Box,
+    Capsule,
+    Cone,
+    ConvexHull,
+    Cylinder,
+    MassProperties,
+    Plane,
+    RigidError,
+    Scene,
+    Shape,
+    ShapeError,
+    Sphere,
+    StateError,
+    TriMesh,
+    World,
+    __version__,
+    mass_properties,
+)
+
+__all__ = [
+    "INTEGRATORS",
+    "Bodies",
+    "Box",
+    "Capsule",
+    "Cone",
+    "ConvexHull",
+    "Cylinder",
+    "MassProperties",
+    "Plane",
+    "RigidError",
+    "Scene",
+    "Shape",
+    "ShapeError",
+    "Sphere",
+    "StateError",
+    "TriMesh",
+    "World",
+    "__version__",
+    "mass_properties",
+]

@@ -1,0 +1,271 @@
+"""Typed interface of the compiled core. SI units; quaternions (x, y, z, w)."""
+from typing import Any, TypeAlias, final
+
+import numpy as np
+import numpy.typing as npt
+from numpy.typing import ArrayLike
+from typing_extensions import disjoint_base
+
+_F64: TypeAlias = npt.NDArray[np.float64]
+
+__all__ = [
+    "Bodies",
+    "Box",
+    "Capsule",
+    "Cone",
+    "ConvexHull",
+    "Cylinder",
+    "INTEGRATORS",
+    "MassProperties",
+    "Plane",
+    "RigidError",
+    "Scene",
+    "Shape",
+    "ShapeError",
+    "Sphere",
+    "StateError",
+    "TriMesh",
+    "World",
+    "__version__",
+    "mass_properties",
+]
+
+__version__: str
+INTEGRATORS: dict[str, int]
+"""Integrator names accepted by ``Scene.build(integrator=...)`` -> nominal order."""
+
+class RigidError(ValueError):
+    """Invalid input; the message names the body or field."""
+
+class ShapeError(RigidError):
+    """A degenerate shape: no volume, an open mesh, too few points."""
+
+class StateError(RigidError):
+    """A world's state, written through a view, is invalid at the next step."""
+
+@disjoint_base
+class Shape:
+    """Base class of every shape."""
+
+    def volume(self) -> float:
+        """Volume (m³); raises for a Plane."""
+    def mass_properties(self, density: float) -> MassProperties:
+        """Mass properties for a uniform ``density`` (kg/m³), in this shape's frame."""
+
+@final
+class Sphere(Shape):
+    """A ball of ``radius`` (m)."""
+
+    def __new__(cls, radius: float) -> Sphere: ...
+    @property
+    def radius(self) -> float: ...
+
+@final
+class Box(Shape):
+    """A box with ``half_extents`` (3,) along local x, y, z (m)."""
+
+    def __new__(cls, half_extents: ArrayLike) -> Box: ...
+    @property
+    def half_extents(self) -> tuple[float, float, float]: ...
+
+@final
+class Capsule(Shape):
+    """A capsule along local z: a segment of length 2·half_height (m) swept by radius (m)."""
+
+    def __new__(cls, radius: float, half_height: float) -> Capsule: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def half_height(self) -> float: ...
+
+@final
+class Cylinder(Shape):
+    """A solid cylinder along local z: radius (m), length 2·half_height (m)."""
+
+    def __new__(cls, radius: float, half_height: float) -> Cylinder: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def half_height(self) -> float: ...
+
+@final
+class Cone(Shape):
+    """A solid cone along local z: base of radius (m) at z = −half_height, apex at +half_height (m)."""
+
+    def __new__(cls, radius: float, half_height: float) -> Cone: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def half_height(self) -> float: ...
+
+@final
+class ConvexHull(Shape):
+    """The convex hull of ``points`` (N, 3) (m): at least 4 points spanning a volume."""
+
+    def __new__(cls, points: ArrayLike) -> ConvexHull: ...
+
+@final
+class TriMesh(Shape):
+    """A triangle mesh: ``vertices`` (V, 3) (m), ``triangles`` (T, 3) vertex indices,
+    counter-clockwise seen from outside. Closed to carry mass."""
+
+    def __new__(cls, vertices: ArrayLike, triangles: ArrayLike) -> TriMesh: ...
+
+@final
+class Plane(Shape):
+    """The half-space ``normal · x <= offset`` (normal (3,), offset in m); fixed bodies only."""
+
+    def __new__(cls, normal: ArrayLike | None = None, offset: float = 0.0) -> Plane: ...
+
+@final
+class MassProperties:
+    """Mass, centre of mass and inertia of a body, and their principal form."""
+
+    @property
+    def mass(self) -> float:
+        """Mass (kg)."""
+    @property
+    def center_of_mass(self) -> _F64:
+        """(3,) centre of mass in the source frame (m)."""
+    @property
+    def inertia(self) -> _F64:
+        """(3, 3) inertia about the centre of mass, source-frame axes (kg·m²)."""
+    @property
+    def principal_moments(self) -> _F64:
+        """(3,) principal moments (kg·m²)."""
+    @property
+    def principal_axes(self) -> _F64:
+        """(3, 3) rotation whose column k is the axis of principal moment k."""
+    @property
+    def principal_orientation(self) -> _F64:
+        """(4,) the principal axes as a quaternion (x, y, z, w)."""
+
+def mass_properties(points: ArrayLike, volumes: ArrayLike, densities: ArrayLike) -> MassProperties:
+    """Mass properties of a body of varying density from samples: ``points`` (N, 3) (m),
+    ``volumes`` (N,) or scalar (m³), ``densities`` (N,) or scalar (kg/m³).
+    Point quadrature of m = ∫ρ, c = ∫ρx/m, I0 = ∫ρ(rᵀr·Id − r rᵀ)."""
+
+@final
+class Scene:
+    """A description of what to simulate. ``gravity`` (3,) m/s², default (0, 0, −9.81)."""
+
+    def __new__(cls, gravity: ArrayLike | None = None) -> Scene: ...
+    @property
+    def gravity(self) -> tuple[float, float, float]: ...
+    def __len__(self) -> int: ...
+    def add_body(
+        self,
+        shape: Shape | None = None,
+        *,
+        density: float | None = None,
+        mass: float | None = None,
+        inertia: ArrayLike | None = None,
+        mass_properties: MassProperties | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+        linear_velocity: ArrayLike | None = None,
+        angular_velocity: ArrayLike | None = None,
+        fixed: bool = False,
+    ) -> int:
+        """Adds a body; returns its index.
+
+        Mass from exactly one of: ``shape`` + ``density`` (kg/m³); ``shape`` + ``mass``
+        (kg, uniform density); ``mass`` + ``inertia`` ((3,) principal moments or (3, 3)
+        tensor about the centre of mass, kg·m²); ``mass_properties``. ``position`` (m)
+        and ``orientation`` (x, y, z, w) place the shape's (or the mass properties')
+        frame, default origin and identity; the body's state is its centre of mass
+        and principal frame. ``linear_velocity`` (m/s, of the centre of mass) and
+        ``angular_velocity`` (rad/s), world frame, default 0. ``fixed`` bodies never move.
+        """
+    def build(self, dt: float, integrator: str = "strang", substeps: int = 1) -> World:
+        """Compiles the scene: ``dt`` (s) per step, ``integrator`` from ``INTEGRATORS``,
+        ``substeps`` per step."""
+
+@final
+class Bodies:
+    """NumPy views of a world's bodies; each view keeps the world alive."""
+
+    def __len__(self) -> int: ...
+    @property
+    def position(self) -> _F64:
+        """(N, 3) centre of mass, world (m); writable."""
+    @property
+    def orientation(self) -> _F64:
+        """(N, 4) principal-frame quaternion (x, y, z, w); writable."""
+    @property
+    def linear_velocity(self) -> _F64:
+        """(N, 3) centre-of-mass velocity, world (m/s); writable."""
+    @property
+    def angular_velocity(self) -> _F64:
+        """(N, 3) angular velocity, world (rad/s); writable."""
+    @property
+    def force(self) -> _F64:
+        """(N, 3) applied force at the centre of mass, world (N); writable, persists."""
+    @property
+    def torque(self) -> _F64:
+        """(N, 3) applied torque, world (N·m); writable, persists."""
+    @property
+    def mass(self) -> _F64:
+        """(N,) mass (kg), inf for fixed bodies; read-only."""
+    @property
+    def inverse_mass(self) -> _F64:
+        """(N,) 1/mass (1/kg), 0 for fixed bodies; read-only."""
+    @property
+    def inertia(self) -> _F64:
+        """(N, 3) principal moments, body frame (kg·m²); read-only."""
+    @property
+    def inverse_inertia(self) -> _F64:
+        """(N, 3) inverse principal moments (1/(kg·m²)); read-only."""
+    @property
+    def rotation(self) -> _F64:
+        """(N, 3, 3) rotation matrix of each body; read-only, refreshed by each step."""
+    @property
+    def inertia_world(self) -> _F64:
+        """(N, 3, 3) world inertia R I0 Rᵀ (kg·m²); read-only, refreshed by each step."""
+    @property
+    def angular_momentum(self) -> _F64:
+        """(N, 3) spin angular momentum I ω, world (kg·m²/s); read-only, refreshed by each step."""
+
+@final
+class World:
+    """A compiled scene: state arrays and the pipeline of stages the scene needs."""
+
+    def step(self, n: int = 1) -> None:
+        """Advances ``n`` steps (GIL released). Raises ``StateError`` naming the body if a
+        view was given an invalid state; then nothing moves."""
+    @property
+    def bodies(self) -> Bodies: ...
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+    @property
+    def steps(self) -> int: ...
+    @property
+    def dt(self) -> float:
+        """Time step (s)."""
+    @property
+    def integrator(self) -> str: ...
+    @property
+    def stages(self) -> list[str]:
+        """Names of the stages one (sub)step runs now, in order."""
+    def profile(self, reset: bool = True) -> dict[str, Any]:
+        """Seconds per stage since the last reset, and ``"steps"``: the steps covered."""
+    @property
+    def profiling(self) -> bool: ...
+    @profiling.setter
+    def profiling(self, on: bool) -> None: ...
+    def kinetic_energy(self) -> float:
+        """Kinetic energy (J)."""
+    def potential_energy(self) -> float:
+        """Gravitational potential energy −Σ m g·p (J)."""
+    def linear_momentum(self) -> _F64:
+        """(3,) total linear momentum (kg·m/s)."""
+    def angular_momentum(self) -> _F64:
+        """(3,) total angular momentum about the origin (kg·m²/s)."""
+    def apply_force(self, body: int, force: ArrayLike, point: ArrayLike | None = None) -> None:
+        """Adds ``force`` (3,) (N) to ``body``; with ``point`` (3,) (m) also the torque
+        (point − p) × force. Persists until changed or cleared."""
+    def apply_torque(self, body: int, torque: ArrayLike) -> None:
+        """Adds ``torque`` (3,) (N·m) to ``body``; persists until cleared."""
+    def clear_forces(self) -> None:
+        """Zeroes every applied force and torque."""

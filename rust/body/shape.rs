@@ -1,0 +1,277 @@
+//! Shapes a body can be made of, each validated when it is made, with its parry
+//! collision shape and its mass properties for a uniform density.
+//!
+//! Axial shapes (capsule, cylinder, cone) have their axis along local z, the up
+//! axis of the engine; parry's cylinder and cone (axis y) are posed accordingly.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion};
+use parry3d_f64::shape::SharedShape;
+
+use super::mass::MassProps;
+use crate::error::{finite3, positive, Error, Result};
+use crate::math::{Mat3, Vec3};
+
+/// The geometry, as the user described it (kept for reporting and rebuilding).
+#[derive(Clone, Debug)]
+pub enum ShapeKind {
+    /// A ball of radius `radius` (m).
+    Sphere { radius: f64 },
+    /// A box with half extents along local x, y, z (m).
+    Box { half_extents: [f64; 3] },
+    /// A capsule: a segment of length `2·half_height` along z, swept by `radius` (m).
+    Capsule { radius: f64, half_height: f64 },
+    /// A solid cylinder of length `2·half_height` along z (m).
+    Cylinder { radius: f64, half_height: f64 },
+    /// A solid cone along z: base disc at `z = −half_height`, apex at `+half_height` (m).
+    Cone { radius: f64, half_height: f64 },
+    /// The convex hull of points (m).
+    ConvexHull { points: Arc<Vec<[f64; 3]>> },
+    /// A triangle mesh (m); closed and outward-oriented to carry mass.
+    TriMesh { vertices: Arc<Vec<[f64; 3]>>, triangles: Arc<Vec<[u32; 3]>> },
+    /// The half-space `normal · x ≤ offset` (unit normal, offset in m): only for fixed bodies.
+    Plane { normal: [f64; 3], offset: f64 },
+}
+
+/// A validated shape: its description, parry's collision shape and the pose of
+/// parry's shape in the local frame of ours.
+#[derive(Clone)]
+pub struct Shape {
+    pub kind: ShapeKind,
+    pub parry: SharedShape,
+    pub parry_pose: Isometry3<f64>,
+}
+
+impl std::fmt::Debug for Shape {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.kind.fmt(f)
+    }
+}
+
+/// Parry's axial shapes run along y; ours run along z: a quarter turn about x.
+fn y_to_z() -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::identity(),
+        UnitQuaternion::from_axis_angle(&Vec3::x_axis(), std::f64::consts::FRAC_PI_2),
+    )
+}
+
+impl Shape {
+    fn new(kind: ShapeKind, parry: SharedShape, parry_pose: Isometry3<f64>) -> Self {
+        Self { kind, parry, parry_pose }
+    }
+
+    pub fn sphere(radius: f64) -> Result<Self> {
+        positive("Sphere radius", radius)?;
+        Ok(Self::new(ShapeKind::Sphere { radius }, SharedShape::ball(radius), Isometry3::identity()))
+    }
+
+    pub fn cuboid(half_extents: [f64; 3]) -> Result<Self> {
+        for (axis, h) in ["x", "y", "z"].iter().zip(half_extents) {
+            positive(&format!("Box half_extents.{axis}"), h)?;
+        }
+        let [x, y, z] = half_extents;
+        Ok(Self::new(ShapeKind::Box { half_extents }, SharedShape::cuboid(x, y, z), Isometry3::identity()))
+    }
+
+    pub fn capsule(radius: f64, half_height: f64) -> Result<Self> {
+        positive("Capsule radius", radius)?;
+        positive("Capsule half_height", half_height)?;
+        let parry = SharedShape::capsule_z(half_height, radius);
+        Ok(Self::new(ShapeKind::Capsule { radius, half_height }, parry, Isometry3::identity()))
+    }
+
+    pub fn cylinder(radius: f64, half_height: f64) -> Result<Self> {
+        positive("Cylinder radius", radius)?;
+        positive("Cylinder half_height", half_height)?;
+        let parry = SharedShape::cylinder(half_height, radius);
+        Ok(Self::new(ShapeKind::Cylinder { radius, half_height }, parry, y_to_z()))
+    }
+
+    pub fn cone(radius: f64, half_height: f64) -> Result<Self> {
+        positive("Cone radius", radius)?;
+        positive("Cone half_height", half_height)?;
+        let parry = SharedShape::cone(half_height, radius);
+        Ok(Self::new(ShapeKind::Cone { radius, half_height }, parry, y_to_z()))
+    }
+
+    pub fn plane(normal: [f64; 3], offset: f64) -> Result<Self> {
+        finite3("Plane normal", normal)?;
+        crate::error::finite("Plane offset", offset)?;
+        let n = Vec3::from(normal);
+        let len = n.norm();
+        if !(len > 1e-12) {
+            return Err(Error::shape(format!("Plane normal must be non-zero, got {normal:?}")));
+        }
+        let unit = Unit::new_normalize(n);
+        let pose = Isometry3::from_parts(Translation3::from(unit.into_inner() * offset), UnitQuaternion::identity());
+        let kind = ShapeKind::Plane { normal: (n / len).into(), offset };
+        Ok(Self::new(kind, SharedShape::halfspace(unit), pose))
+    }
+
+    pub fn convex_hull(points: Vec<[f64; 3]>) -> Result<Self> {
+        check_points("ConvexHull points", &points)?;
+        if points.len() < 4 {
+            return Err(Error::shape(format!("ConvexHull needs at least 4 points, got {}", points.len())));
+        }
+        check_spans_volume("ConvexHull points", &points)?;
+        let pts: Vec<Point3<f64>> = points.iter().map(|p| Point3::from(*p)).collect();
+        // parry's hull can panic on inputs that are degenerate to round-off; the
+        // check above rejects those, this guard turns any that slip by into an error.
+        let hull = std::panic::catch_unwind(|| SharedShape::convex_hull(&pts)).ok().flatten();
+        let parry = hull.ok_or_else(|| Error::shape("ConvexHull: parry could not build a hull of these points"))?;
+        let kind = ShapeKind::ConvexHull { points: Arc::new(points) };
+        Ok(Self::new(kind, parry, Isometry3::identity()))
+    }
+
+    pub fn trimesh(vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Result<Self> {
+        check_points("TriMesh vertices", &vertices)?;
+        if triangles.is_empty() {
+            return Err(Error::shape("TriMesh needs at least one triangle"));
+        }
+        let n = vertices.len();
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
+                return Err(Error::input(format!("TriMesh triangles[{t}] has index {bad}, but there are {n} vertices")));
+            }
+            if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+                return Err(Error::shape(format!("TriMesh triangles[{t}] repeats a vertex: {tri:?}")));
+            }
+        }
+        let pts: Vec<Point3<f64>> = vertices.iter().map(|p| Point3::from(*p)).collect();
+        let parry = SharedShape::trimesh(pts, triangles.clone())
+            .map_err(|e| Error::shape(format!("TriMesh: {e:?}")))?;
+        let kind = ShapeKind::TriMesh { vertices: Arc::new(vertices), triangles: Arc::new(triangles) };
+        Ok(Self::new(kind, parry, Isometry3::identity()))
+    }
+
+    /// A short name for messages ("Sphere", "TriMesh", ...).
+    pub fn name(&self) -> &'static str {
+        match self.kind {
+            ShapeKind::Sphere { .. } => "Sphere",
+            ShapeKind::Box { .. } => "Box",
+            ShapeKind::Capsule { .. } => "Capsule",
+            ShapeKind::Cylinder { .. } => "Cylinder",
+            ShapeKind::Cone { .. } => "Cone",
+            ShapeKind::ConvexHull { .. } => "ConvexHull",
+            ShapeKind::TriMesh { .. } => "TriMesh",
+            ShapeKind::Plane { .. } => "Plane",
+        }
+    }
+
+    /// Mass properties for a uniform density (kg/m³), in this shape's frame.
+    pub fn mass_properties(&self, density: f64) -> Result<MassProps> {
+        positive("density", density)?;
+        match &self.kind {
+            ShapeKind::Plane { .. } => {
+                return Err(Error::input("a Plane has no finite mass: add it with fixed=True"));
+            }
+            ShapeKind::TriMesh { vertices, triangles } => check_closed_outward(vertices, triangles)?,
+            _ => {}
+        }
+        let mp = self.parry.mass_properties(density).transform_by(&self.parry_pose);
+        let props = MassProps {
+            mass: mp.mass(),
+            com: mp.local_com.coords,
+            inertia: symmetrize(mp.reconstruct_inertia_matrix()),
+        };
+        props.validate(self.name()).map_err(|e| Error::shape(e.message))?;
+        Ok(props)
+    }
+
+    /// Volume (m³).
+    pub fn volume(&self) -> Result<f64> {
+        Ok(self.mass_properties(1.0)?.mass)
+    }
+}
+
+fn symmetrize(m: Mat3) -> Mat3 {
+    0.5 * (m + m.transpose())
+}
+
+fn check_points(what: &str, points: &[[f64; 3]]) -> Result<()> {
+    for (i, p) in points.iter().enumerate() {
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(Error::input(format!("{what}[{i}] must be finite, got {p:?}")));
+        }
+    }
+    Ok(())
+}
+
+/// Rejects point sets that are (to round-off) coplanar, collinear or a single point.
+fn check_spans_volume(what: &str, points: &[[f64; 3]]) -> Result<()> {
+    let n = points.len() as f64;
+    let mean = points.iter().fold(Vec3::zeros(), |a, p| a + Vec3::from(*p)) / n;
+    let mut cov = Mat3::zeros();
+    for p in points {
+        let r = Vec3::from(*p) - mean;
+        cov += r * r.transpose();
+    }
+    let ev = cov.symmetric_eigenvalues();
+    let (lo, hi) = (ev.min(), ev.max());
+    if !(hi > 0.0) || lo <= 1e-18 * hi {
+        return Err(Error::shape(format!("{what} are coplanar, collinear or coincident: they enclose no volume")));
+    }
+    Ok(())
+}
+
+/// A mesh carries mass only if it is closed (every edge shared by exactly two
+/// triangles, traversed once each way) and its triangles face outward.
+fn check_closed_outward(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<()> {
+    let mut edges: HashMap<(u32, u32), i32> = HashMap::with_capacity(triangles.len() * 3);
+    for tri in triangles {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            *edges.entry((a, b)).or_insert(0) += 1;
+        }
+    }
+    for (&(a, b), &count) in &edges {
+        if count != 1 || edges.get(&(b, a)) != Some(&1) {
+            return Err(Error::shape(format!(
+                "TriMesh is not a closed, consistently oriented surface (edge {a}-{b}): it has no volume to carry mass"
+            )));
+        }
+    }
+    let mut six_volume = 0.0;
+    for t in triangles {
+        let [a, b, c] = t.map(|i| Vec3::from(vertices[i as usize]));
+        six_volume += a.dot(&b.cross(&c));
+    }
+    if !(six_volume > 0.0) {
+        return Err(Error::shape(format!(
+            "TriMesh encloses a volume of {:.3e} m³: its triangles face inward or it is flat (reverse the vertex order of each triangle)",
+            six_volume / 6.0
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cone_axis_is_z_with_centre_a_quarter_up_from_the_base() {
+        let (r, hh) = (0.3, 0.5);
+        let mp = Shape::cone(r, hh).unwrap().mass_properties(1.0).unwrap();
+        assert!((mp.com - Vec3::new(0.0, 0.0, -hh / 2.0)).norm() < 1e-15);
+        let m = mp.mass;
+        let axial = 0.3 * m * r * r;
+        assert!((mp.inertia[(2, 2)] - axial).abs() < 1e-14 * axial);
+    }
+
+    #[test]
+    fn open_mesh_has_no_mass() {
+        let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let s = Shape::trimesh(v, vec![[0, 1, 2]]).unwrap();
+        assert!(s.mass_properties(1.0).is_err());
+    }
+
+    #[test]
+    fn coplanar_hull_is_rejected() {
+        let pts = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+        assert!(Shape::convex_hull(pts).is_err());
+    }
+}

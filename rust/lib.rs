@@ -1,0 +1,17 @@
+//! rigidrs: rigid bodies and position-based bodies, integrated with methods whose
+//! accuracy is measured against exact references.
+//!
+//! A [`world::Scene`] describes what is simulated; [`world::Scene::build`] validates
+//! it and compiles a [`world::World`]: struct-of-arrays state plus the pipeline of
+//! stages that this scene needs, and nothing else.
+
+pub mod body;
+pub mod error;
+pub mod integrate;
+pub mod math;
+pub mod world;
+
+#[cfg(feature = "python")]
+mod py;
+
+pub use error::{Error, ErrorKind, Result};

@@ -1,0 +1,34 @@
+//! Python bindings (feature `python`): a thin layer that converts, validates at the
+//! boundary, and maps [`crate::Error`] to Python exceptions.
+
+mod convert;
+mod errors;
+mod mass;
+mod scene;
+mod shapes;
+mod views;
+mod world;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::integrate::Integrator;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    errors::register(m)?;
+    shapes::register(m)?;
+    m.add_class::<mass::PyMassProperties>()?;
+    m.add_function(wrap_pyfunction!(mass::mass_properties, m)?)?;
+    m.add_class::<scene::PyScene>()?;
+    m.add_class::<world::PyWorld>()?;
+    m.add_class::<views::PyBodies>()?;
+    let integrators = PyDict::new(py);
+    for i in Integrator::ALL {
+        integrators.set_item(i.name(), i.order())?;
+    }
+    m.add("INTEGRATORS", integrators)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

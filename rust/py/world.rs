@@ -1,0 +1,158 @@
+//! `World`: a compiled scene. `step` releases the GIL; state is seen through views.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use super::convert::vec3;
+use super::errors::{IntoPy, RigidError};
+use super::views::PyBodies;
+use crate::world::World;
+
+#[pyclass(name = "World", module = "rigidrs._core")]
+pub struct PyWorld {
+    pub inner: World,
+}
+
+impl PyWorld {
+    pub fn new(inner: World) -> Self {
+        Self { inner }
+    }
+}
+
+fn vector<'py>(py: Python<'py>, v: crate::math::Vec3) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, v.as_slice())
+}
+
+#[pymethods]
+impl PyWorld {
+    /// Advances `n` steps of `dt` with the GIL released. The state is checked
+    /// first; an invalid body (NaN, non-unit quaternion) raises `StateError` naming
+    /// it, and nothing moves.
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let w = &mut self.inner;
+        let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.step(n))));
+        match r {
+            Ok(result) => result.py_err(),
+            Err(_) => Err(RigidError::new_err("internal error in step (a bug in rigidrs: please report it)")),
+        }
+    }
+
+    /// The bodies, as NumPy views.
+    #[getter]
+    fn bodies(slf: Bound<'_, Self>) -> PyBodies {
+        PyBodies { world: slf.unbind() }
+    }
+
+    /// Simulated time (s).
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    /// Time step (s).
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.dt()
+    }
+
+    /// The integrator's name.
+    #[getter]
+    fn integrator(&self) -> &'static str {
+        self.inner.integrator().name()
+    }
+
+    /// Names of the stages one (sub)step runs now, in order.
+    #[getter]
+    fn stages(&mut self) -> Vec<&'static str> {
+        self.inner.stage_names()
+    }
+
+    /// Seconds spent in each stage since the last reset, by stage name, and under
+    /// "steps" the number of steps that covers; `reset` (default True) starts a new
+    /// window.
+    #[pyo3(signature = (reset=true))]
+    fn profile<'py>(&mut self, py: Python<'py>, reset: bool) -> PyResult<Bound<'py, PyDict>> {
+        let (rows, steps) = self.inner.profile.report();
+        let d = PyDict::new(py);
+        for (name, s) in rows {
+            d.set_item(name, s)?;
+        }
+        d.set_item("steps", steps)?;
+        if reset {
+            self.inner.profile.reset();
+        }
+        Ok(d)
+    }
+
+    /// Whether stages are timed (default True; costs two clock reads per stage).
+    #[getter]
+    fn profiling(&self) -> bool {
+        self.inner.profile.enabled
+    }
+
+    #[setter]
+    fn set_profiling(&mut self, on: bool) {
+        self.inner.profile.enabled = on;
+    }
+
+    /// Kinetic energy, translational plus rotational (J).
+    fn kinetic_energy(&self) -> f64 {
+        self.inner.kinetic_energy()
+    }
+
+    /// Gravitational potential energy −Σ m g·p (J).
+    fn potential_energy(&self) -> f64 {
+        self.inner.potential_energy()
+    }
+
+    /// Total linear momentum (3,) (kg·m/s).
+    fn linear_momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vector(py, self.inner.linear_momentum())
+    }
+
+    /// Total angular momentum about the origin (3,) (kg·m²/s).
+    fn angular_momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vector(py, self.inner.angular_momentum())
+    }
+
+    /// Adds `force` (3,) (N, world) to body `body`; with `point` (3,) (m, world) also
+    /// the torque (point − p) × force at the body's current position. Persists
+    /// until changed or `clear_forces()`.
+    #[pyo3(signature = (body, force, point=None))]
+    fn apply_force(&mut self, body: usize, force: &Bound<'_, PyAny>, point: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let f = vec3(force, "force")?;
+        let p = point.map(|p| vec3(p, "point")).transpose()?;
+        self.inner.apply_force(body, f, p).py_err()
+    }
+
+    /// Adds `torque` (3,) (N·m, world) to body `body`; persists until cleared.
+    fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+        let t = vec3(torque, "torque")?;
+        self.inner.apply_torque(body, t).py_err()
+    }
+
+    /// Sets every applied force and torque to zero.
+    fn clear_forces(&mut self) {
+        self.inner.clear_forces();
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "World(bodies={}, dt={}, integrator={:?}, time={})",
+            self.inner.bodies.len(),
+            self.inner.dt(),
+            self.inner.integrator().name(),
+            self.inner.time()
+        )
+    }
+}

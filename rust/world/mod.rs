@@ -1,0 +1,16 @@
+//! A [`Scene`] (a plain description, validated as it is filled) compiles into a
+//! [`World`] (state arrays plus the stages this scene needs).
+
+pub mod diagnostics;
+pub mod pipeline;
+pub mod profile;
+pub mod scene;
+pub mod settings;
+pub mod validate;
+#[allow(clippy::module_inception)]
+pub mod world;
+
+pub use pipeline::{Stage, StageKind};
+pub use scene::{BodySpec, Inertia, Scene};
+pub use settings::Settings;
+pub use world::World;

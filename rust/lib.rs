@@ -6,9 +6,11 @@
 //! stages that this scene needs, and nothing else.
 
 pub mod body;
+pub mod collide;
 pub mod error;
 pub mod integrate;
 pub mod math;
+pub mod solve;
 pub mod world;
 
 #[cfg(feature = "python")]

@@ -33,6 +33,8 @@ pub enum ShapeKind {
     TriMesh { vertices: Arc<Vec<[f64; 3]>>, triangles: Arc<Vec<[u32; 3]>> },
     /// The half-space `normal · x ≤ offset` (unit normal, offset in m): only for fixed bodies.
     Plane { normal: [f64; 3], offset: f64 },
+    /// Convex parts at poses in this shape's frame.
+    Compound { parts: Arc<Vec<(Isometry3<f64>, Shape)>> },
 }
 
 /// A validated shape: its description, parry's collision shape and the pose of
@@ -147,6 +149,26 @@ impl Shape {
         Ok(Self::new(kind, parry, Isometry3::identity()))
     }
 
+    /// A union of shapes at poses (in this shape's frame). Parts may not be
+    /// meshes, planes or compounds themselves.
+    pub fn compound(parts: Vec<(Isometry3<f64>, Shape)>) -> Result<Self> {
+        if parts.is_empty() {
+            return Err(Error::shape("Compound needs at least one part"));
+        }
+        let mut parry_parts = Vec::with_capacity(parts.len());
+        for (k, (pose, part)) in parts.iter().enumerate() {
+            if matches!(part.kind, ShapeKind::TriMesh { .. } | ShapeKind::Plane { .. } | ShapeKind::Compound { .. }) {
+                return Err(Error::shape(format!(
+                    "Compound part {k} is a {}: parts must be spheres, boxes, capsules, cylinders, cones or convex hulls",
+                    part.name()
+                )));
+            }
+            parry_parts.push((pose * part.parry_pose, part.parry.clone()));
+        }
+        let kind = ShapeKind::Compound { parts: Arc::new(parts) };
+        Ok(Self::new(kind, SharedShape::compound(parry_parts), Isometry3::identity()))
+    }
+
     /// A short name for messages ("Sphere", "TriMesh", ...).
     pub fn name(&self) -> &'static str {
         match self.kind {
@@ -158,6 +180,7 @@ impl Shape {
             ShapeKind::ConvexHull { .. } => "ConvexHull",
             ShapeKind::TriMesh { .. } => "TriMesh",
             ShapeKind::Plane { .. } => "Plane",
+            ShapeKind::Compound { .. } => "Compound",
         }
     }
 

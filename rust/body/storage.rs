@@ -10,6 +10,9 @@ pub enum BodyKind {
     Dynamic,
     /// Never moves (infinite mass); its pose may be set by the user between steps.
     Fixed,
+    /// Moved by the user through its velocities (infinite mass): pushes dynamic
+    /// bodies, is pushed by nothing.
+    Kinematic,
 }
 
 /// Per-body arrays. Index `i` of every field is body `i`.
@@ -36,6 +39,9 @@ pub struct Bodies {
     /// Inverse principal moments (1/(kg·m²)); 0 for fixed bodies.
     pub inv_inertia: Vec<[f64; 3]>,
     pub kind: Vec<BodyKind>,
+    /// Whether a dynamic body is asleep (at rest in an island that costs nothing
+    /// until something touches it).
+    pub sleeping: Vec<bool>,
     /// Derived, read-only to users: rotation matrix of each body, row-major.
     pub rotation: Vec<[f64; 9]>,
     /// Derived: world-frame angular momentum about the centre of mass (kg·m²/s).
@@ -70,6 +76,7 @@ impl Bodies {
             inertia: Vec::with_capacity(n),
             inv_inertia: Vec::with_capacity(n),
             kind: Vec::with_capacity(n),
+            sleeping: Vec::with_capacity(n),
             rotation: Vec::with_capacity(n),
             angular_momentum: Vec::with_capacity(n),
             inertia_world: Vec::with_capacity(n),
@@ -86,6 +93,7 @@ impl Bodies {
 
     pub fn push(&mut self, b: &BodyInit) {
         let fixed = b.kind == BodyKind::Fixed;
+        let infinite = b.kind != BodyKind::Dynamic;
         self.position.push(b.position.into());
         self.orientation.push(quat::to_xyzw(&b.orientation));
         let zero = [0.0; 3];
@@ -93,15 +101,31 @@ impl Bodies {
         self.angular_velocity.push(if fixed { zero } else { b.angular_velocity.into() });
         self.force.push(zero);
         self.torque.push(zero);
-        let (m, im) = if fixed { (f64::INFINITY, 0.0) } else { (b.mass, 1.0 / b.mass) };
+        let (m, im) = if infinite { (f64::INFINITY, 0.0) } else { (b.mass, 1.0 / b.mass) };
         self.mass.push(m);
         self.inv_mass.push(im);
-        self.inertia.push(if fixed { [f64::INFINITY; 3] } else { b.inertia });
-        self.inv_inertia.push(if fixed { zero } else { b.inertia.map(|x| 1.0 / x) });
+        self.inertia.push(if infinite { [f64::INFINITY; 3] } else { b.inertia });
+        self.inv_inertia.push(if infinite { zero } else { b.inertia.map(|x| 1.0 / x) });
         self.kind.push(b.kind);
+        self.sleeping.push(false);
         self.rotation.push([0.0; 9]);
         self.angular_momentum.push(zero);
         self.inertia_world.push([0.0; 9]);
+    }
+
+    /// A dynamic body that is not asleep.
+    #[inline(always)]
+    pub fn awake(&self, i: usize) -> bool {
+        self.kind[i] == BodyKind::Dynamic && !self.sleeping[i]
+    }
+
+    /// Whether body `i` can move this step: awake dynamic, or kinematic with a velocity.
+    pub fn moving(&self, i: usize) -> bool {
+        match self.kind[i] {
+            BodyKind::Dynamic => !self.sleeping[i],
+            BodyKind::Kinematic => self.linear_velocity[i] != [0.0; 3] || self.angular_velocity[i] != [0.0; 3],
+            BodyKind::Fixed => false,
+        }
     }
 
     #[inline(always)]
@@ -120,7 +144,7 @@ impl Bodies {
     /// World-frame angular momentum about the centre of mass, `R I0 Rᵀ ω`.
     #[inline(always)]
     pub fn spin_momentum(&self, i: usize) -> Vec3 {
-        if self.kind[i] == BodyKind::Fixed {
+        if self.kind[i] != BodyKind::Dynamic {
             return Vec3::zeros();
         }
         let q = self.q(i);
@@ -134,7 +158,7 @@ impl Bodies {
             let r = quat::to_matrix(&self.q(i));
             self.rotation[i] = row_major(&r);
             self.angular_momentum[i] = self.spin_momentum(i).into();
-            let iw = if self.kind[i] == BodyKind::Fixed {
+            let iw = if self.kind[i] != BodyKind::Dynamic {
                 Mat3::from_diagonal_element(f64::INFINITY)
             } else {
                 r * Mat3::from_diagonal(&Vec3::from(self.inertia[i])) * r.transpose()

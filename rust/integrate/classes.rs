@@ -54,10 +54,11 @@ pub struct BodyLists {
 }
 
 impl BodyLists {
+    /// Lists of the awake dynamic bodies.
     pub fn new(bodies: &Bodies) -> Self {
         let mut lists = BodyLists::default();
         for i in 0..bodies.len() {
-            if bodies.kind[i] != BodyKind::Dynamic {
+            if bodies.kind[i] != BodyKind::Dynamic || bodies.sleeping[i] {
                 continue;
             }
             lists.dynamic.push(i as u32);

@@ -8,7 +8,10 @@ use super::errors::IntoPy;
 use super::mass::PyMassProperties;
 use super::shapes::PyShape;
 use super::world::PyWorld;
+use crate::collide::{Filter, Material};
 use crate::integrate::Integrator;
+use crate::solve::islands::SleepSettings;
+use crate::solve::SolverSettings;
 use crate::world::{BodySpec, Inertia, Scene, Settings};
 
 /// A description of what to simulate. `gravity` (3,) in m/s², default (0, 0, −9.81).
@@ -51,7 +54,8 @@ impl PyScene {
     /// Adds a body and returns its index. See the stub for the parameters.
     #[pyo3(signature = (shape=None, *, density=None, mass=None, inertia=None, mass_properties=None,
                         position=None, orientation=None, linear_velocity=None, angular_velocity=None,
-                        fixed=false))]
+                        fixed=false, kinematic=false, friction=0.5, static_friction=None, restitution=0.0,
+                        ccd=false, collision_group=1, collision_mask=u32::MAX))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -65,6 +69,13 @@ impl PyScene {
         linear_velocity: Option<&Bound<'_, PyAny>>,
         angular_velocity: Option<&Bound<'_, PyAny>>,
         fixed: bool,
+        kinematic: bool,
+        friction: f64,
+        static_friction: Option<f64>,
+        restitution: f64,
+        ccd: bool,
+        collision_group: u32,
+        collision_mask: u32,
     ) -> PyResult<usize> {
         let index = self.inner.bodies().len();
         let field = |name: &str| format!("body {index}: {name}");
@@ -74,6 +85,12 @@ impl PyScene {
             mass,
             mass_properties: mass_properties.map(|m| m.inner.clone()),
             fixed,
+            kinematic,
+            material: Material::new(friction, static_friction, restitution)
+                .map_err(|e| e.context(format!("body {index}")))
+                .py_err()?,
+            filter: Filter { group: collision_group, mask: collision_mask },
+            ccd,
             ..Default::default()
         };
         if let Some(i) = inertia {
@@ -94,13 +111,34 @@ impl PyScene {
         self.inner.add_body(spec).py_err()
     }
 
-    /// Compiles the scene into a `World`. `dt` (s) per step; `integrator` one of
-    /// `INTEGRATORS` (default "strang"); `substeps` per step (default 1).
-    #[pyo3(signature = (dt, integrator="strang", substeps=1))]
-    fn build(&self, dt: f64, integrator: &str, substeps: u32) -> PyResult<PyWorld> {
-        let mut settings = Settings::new(dt);
-        settings.integrator = Integrator::from_name(integrator).py_err()?;
-        settings.substeps = substeps;
-        Ok(PyWorld::new(self.inner.build(&settings).py_err()?))
+    /// Compiles the scene into a `World`. See the stub for the parameters.
+    #[pyo3(signature = (dt, integrator="strang", substeps=None, iterations=1, *, sleep=true,
+                        restitution_threshold=1.0, margin=0.005, contact_hertz=30.0,
+                        contact_damping_ratio=10.0, max_push_velocity=3.0,
+                        sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5))]
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        &self,
+        dt: f64,
+        integrator: &str,
+        substeps: Option<u32>,
+        iterations: u32,
+        sleep: bool,
+        restitution_threshold: f64,
+        margin: f64,
+        contact_hertz: f64,
+        contact_damping_ratio: f64,
+        max_push_velocity: f64,
+        sleep_linear: f64,
+        sleep_angular: f64,
+        sleep_time: f64,
+    ) -> PyResult<PyWorld> {
+        let mut s = Settings::new(dt);
+        s.integrator = Integrator::from_name(integrator).py_err()?;
+        s.substeps = substeps;
+        s.iterations = iterations;
+        s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, margin };
+        s.sleep = SleepSettings { enabled: sleep, linear: sleep_linear, angular: sleep_angular, time: sleep_time };
+        Ok(PyWorld::new(self.inner.build(&s).py_err()?))
     }
 }

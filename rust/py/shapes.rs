@@ -39,6 +39,7 @@ impl PyShape {
                 format!("TriMesh(<{} vertices, {} triangles>)", vertices.len(), triangles.len())
             }
             ShapeKind::Plane { normal, offset } => format!("Plane(normal={normal:?}, offset={offset})"),
+            ShapeKind::Compound { parts } => format!("Compound(<{} parts>)", parts.len()),
         }
     }
 }
@@ -164,7 +165,46 @@ impl PyPlane {
     }
 }
 
+/// A union of convex parts: `parts` is a list of `(shape, position)` or
+/// `(shape, position, orientation)` in this shape's frame (m; x, y, z, w).
+#[pyclass(name = "Compound", module = "rigidrs._core", extends = PyShape, frozen)]
+pub struct PyCompound;
+
+#[pymethods]
+impl PyCompound {
+    #[new]
+    fn new(parts: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let mut out = Vec::new();
+        for (k, item) in parts.try_iter()?.enumerate() {
+            let item = item?;
+            let name = format!("Compound part {k}");
+            let tuple = item.cast::<pyo3::types::PyTuple>().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!("{name} must be a tuple (shape, position[, orientation])"))
+            })?;
+            if !(2..=3).contains(&tuple.len()) {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "{name} must be (shape, position) or (shape, position, orientation), got {} items",
+                    tuple.len()
+                )));
+            }
+            let shape = tuple.get_item(0)?;
+            let shape = shape.cast::<PyShape>().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!("{name}: the first item must be a rigidrs Shape"))
+            })?;
+            let p = vec3(&tuple.get_item(1)?, &format!("{name} position"))?;
+            let q = match tuple.len() {
+                3 => super::convert::vec4(&tuple.get_item(2)?, &format!("{name} orientation"))?,
+                _ => [0.0, 0.0, 0.0, 1.0],
+            };
+            let pose = crate::world::scene::pose(p, q).map_err(|e| e.context(&name)).py_err()?;
+            out.push((pose, shape.get().inner.clone()));
+        }
+        Ok(base(Shape::compound(out))?.add_subclass(Self))
+    }
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyCompound>()?;
     m.add_class::<PyShape>()?;
     m.add_class::<PySphere>()?;
     m.add_class::<PyBox>()?;

@@ -99,6 +99,22 @@ impl PyBodies {
         self.world.bind(py).borrow().inner.bodies.len()
     }
 
+    /// (N,) whether each body is asleep; read-only.
+    #[getter]
+    fn sleeping<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.world.bind(py);
+        let (ptr, n) = {
+            let g = w.try_borrow()?;
+            (g.inner.bodies.sleeping.as_ptr(), g.inner.bodies.len())
+        };
+        // Safety: a Vec of the world allocated at build and never reallocated;
+        // bool is one byte holding 0 or 1, as NumPy's bool.
+        let a = unsafe { numpy::ndarray::ArrayView1::from_shape_ptr(n, ptr) };
+        let arr = unsafe { numpy::PyArray1::<bool>::borrow_from_array(&a, w.clone().into_any()) };
+        arr.call_method1("setflags", (false,))?;
+        Ok(arr.into_any())
+    }
+
     /// (N, 3) centre of mass, world (m); writable.
     #[getter]
     fn position<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -2,13 +2,14 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::convert::vec3;
 use super::errors::{IntoPy, RigidError};
 use super::views::PyBodies;
+use crate::collide::narrow_phase::ContactReport;
 use crate::world::World;
 
 #[pyclass(name = "World", module = "rigidrs._core")]
@@ -139,6 +140,34 @@ impl PyWorld {
     fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
         let t = vec3(torque, "torque")?;
         self.inner.apply_torque(body, t).py_err()
+    }
+
+    /// This step's contact points as arrays (K contacts): `body_a`, `body_b` (K,)
+    /// int64; `point` (K, 3) world (m), midway between the surfaces; `normal` (K, 3)
+    /// from a to b; `depth` (K,) penetration (m, negative: predicted, not yet
+    /// touching); `normal_impulse` (K,) and `friction_impulse` (K, 3) over the step
+    /// (N·s; divide by dt for forces).
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let rows = self.inner.contacts();
+        let d = PyDict::new(py);
+        let ints = |f: fn(&ContactReport) -> u32| rows.iter().map(|r| f(r) as i64).collect::<Vec<_>>();
+        let flat3 = |f: fn(&ContactReport) -> [f64; 3]| rows.iter().flat_map(f).collect::<Vec<_>>();
+        let scalars = |f: fn(&ContactReport) -> f64| rows.iter().map(f).collect::<Vec<_>>();
+        let k = rows.len();
+        d.set_item("body_a", PyArray1::from_vec(py, ints(|r| r.body_a)))?;
+        d.set_item("body_b", PyArray1::from_vec(py, ints(|r| r.body_b)))?;
+        d.set_item("point", PyArray1::from_vec(py, flat3(|r| r.point)).reshape([k, 3])?)?;
+        d.set_item("normal", PyArray1::from_vec(py, flat3(|r| r.normal)).reshape([k, 3])?)?;
+        d.set_item("depth", PyArray1::from_vec(py, scalars(|r| r.depth)))?;
+        d.set_item("normal_impulse", PyArray1::from_vec(py, scalars(|r| r.normal_impulse)))?;
+        d.set_item("friction_impulse", PyArray1::from_vec(py, flat3(|r| r.friction_impulse)).reshape([k, 3])?)?;
+        Ok(d)
+    }
+
+    /// Substeps per step (resolved: 1 without contacts, 4 with them, unless given).
+    #[getter]
+    fn substeps(&self) -> u32 {
+        self.inner.substeps()
     }
 
     /// Sets every applied force and torque to zero.

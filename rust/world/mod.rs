@@ -1,11 +1,13 @@
 //! A [`Scene`] (a plain description, validated as it is filled) compiles into a
 //! [`World`] (state arrays plus the stages this scene needs).
 
+pub mod collision;
 pub mod diagnostics;
 pub mod pipeline;
 pub mod profile;
 pub mod scene;
 pub mod settings;
+pub mod step;
 pub mod validate;
 #[allow(clippy::module_inception)]
 pub mod world;

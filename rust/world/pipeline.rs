@@ -1,71 +1,234 @@
-//! The stages a world runs each (sub)step, chosen from what the scene contains:
-//! a stage with nothing to do is not in the list and costs nothing.
+//! The stages a world runs, chosen from what the scene contains: a stage with
+//! nothing to do is not in the plan and costs nothing.
+//!
+//! One step is `pre` (collision detection), then `substeps` times `sub`, then
+//! `post` (sleep). Within a substep, bodies that touch something this step take a
+//! velocity-level step (full kick, contact solve, drift, relax: first order, as in
+//! every impulse-based engine), while bodies in free flight keep the integrator's
+//! own splitting and its order. The drift (translation and rotation) is the
+//! integrator's for both.
 
 use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator};
 
+/// Which dynamic bodies a kick applies to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Group {
+    /// Every awake dynamic body (a world without contacts).
+    All,
+    /// Awake dynamic bodies in no contact this step.
+    Free,
+    /// Awake dynamic bodies in contact this step.
+    Touching,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StageKind {
+    BroadPhase,
+    NarrowPhase,
     /// Velocity-level gyroscopic update of the non-isotropic bodies.
     Gyroscopic(Gyroscopic),
     /// Kick by gravity, applied forces and torques.
-    Forces,
+    Forces(Group),
+    /// Restitution: pairwise impacts of approaching contacts, in time order.
+    Impacts,
+    /// Copies the touching bodies into the solver (`relax`: before the relax pass).
+    Gather { relax: bool },
+    /// Writes the solved velocities back.
+    Scatter { relax: bool },
+    /// Warm start of the contact impulses.
+    WarmStart,
+    /// Coulomb friction (true cone); `relax`: without position bias.
+    Friction { relax: bool },
+    /// Non-penetration; `relax`: without position bias.
+    Normal { relax: bool },
     /// `p += h v`.
     Translate,
     /// Rotation of the bodies of one inertia class by the integrator's method.
     Rotate(InertiaClass),
-    /// The monolithic RK4 step.
-    Rk4,
+    /// The monolithic RK4 step of a group; `forces`: with its kick.
+    Rk4 { group: Group, forces: bool },
+    /// Kinematic bodies moved by their velocities.
+    Kinematic,
+    /// Continuous collision detection of fast bodies that asked for it.
+    Ccd,
+    /// Islands at rest go to sleep.
+    Sleep,
 }
 
-/// One stage: what it does and the fraction of the (sub)step it covers.
+/// One stage: what it does, the fraction of the (sub)step it covers, and its
+/// accumulator in the world's profile.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stage {
     pub kind: StageKind,
     pub frac: f64,
+    pub slot: usize,
 }
 
 impl Stage {
+    fn new(kind: StageKind, frac: f64) -> Self {
+        Self { kind, frac, slot: 0 }
+    }
+
     pub fn name(&self) -> &'static str {
         match self.kind {
+            StageKind::BroadPhase => "broad_phase",
+            StageKind::NarrowPhase => "narrow_phase",
             StageKind::Gyroscopic(_) => "gyroscopic",
-            StageKind::Forces => "forces",
+            StageKind::Forces(_) => "forces",
+            StageKind::Impacts => "impacts",
+            StageKind::WarmStart
+            | StageKind::Normal { relax: false }
+            | StageKind::Gather { relax: false }
+            | StageKind::Scatter { relax: false } => "contact_solve",
+            StageKind::Friction { .. } => "friction",
+            StageKind::Normal { relax: true } | StageKind::Gather { relax: true } | StageKind::Scatter { relax: true } => {
+                "contact_relax"
+            }
             StageKind::Translate => "translate",
             StageKind::Rotate(InertiaClass::Isotropic) => "rotate_isotropic",
             StageKind::Rotate(InertiaClass::Symmetric) => "rotate_symmetric",
             StageKind::Rotate(InertiaClass::Asymmetric) => "rotate_asymmetric",
-            StageKind::Rk4 => "rk4",
+            StageKind::Rk4 { .. } => "rk4",
+            StageKind::Kinematic => "kinematic",
+            StageKind::Ccd => "ccd",
+            StageKind::Sleep => "sleep",
         }
     }
 }
 
-/// The stages of one (sub)step for `integrator`, given the bodies by class and
-/// whether any force or torque acts.
-pub fn plan(integrator: Integrator, lists: &BodyLists, forces: bool) -> Vec<Stage> {
-    let mut stages = Vec::new();
-    if lists.dynamic.is_empty() {
-        return stages;
+/// What the plan depends on.
+#[derive(Clone, Copy, Debug)]
+pub struct PlanInputs {
+    pub integrator: Integrator,
+    /// Gravity, an applied force or an applied torque acts.
+    pub forces: bool,
+    /// Some pair of colliders can touch.
+    pub collisions: bool,
+    /// Some pair that can touch has restitution > 0.
+    pub impacts: bool,
+    /// Some pair that can touch has friction > 0.
+    pub friction: bool,
+    /// Some body asked for continuous collision detection.
+    pub ccd: bool,
+    pub kinematic: bool,
+    pub sleep: bool,
+    /// Solver iterations per substep (≥ 1).
+    pub iterations: u32,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Plan {
+    pub pre: Vec<Stage>,
+    pub sub: Vec<Stage>,
+    pub post: Vec<Stage>,
+}
+
+impl Plan {
+    pub fn stages(&self) -> impl Iterator<Item = &Stage> {
+        self.pre.iter().chain(&self.sub).chain(&self.post)
     }
-    let Some(split) = integrator.splitting() else {
-        stages.push(Stage { kind: StageKind::Rk4, frac: 1.0 });
-        return stages;
-    };
+
+    /// Gives every stage its profile accumulator.
+    pub fn assign_slots(&mut self, profile: &mut super::profile::Profile) {
+        for s in self.pre.iter_mut().chain(self.sub.iter_mut()).chain(self.post.iter_mut()) {
+            s.slot = profile.slot(s.name());
+        }
+    }
+}
+
+pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
+    let mut p = Plan::default();
+    let dynamic = !lists.dynamic.is_empty();
+    if inp.collisions {
+        p.pre.push(Stage::new(StageKind::BroadPhase, 1.0));
+        p.pre.push(Stage::new(StageKind::NarrowPhase, 1.0));
+    }
+    let free = if inp.collisions { Group::Free } else { Group::All };
     let classes = [InertiaClass::Isotropic, InertiaClass::Symmetric, InertiaClass::Asymmetric];
-    let anisotropic = lists.symmetric.len() + lists.asymmetric.len();
-    if let (Some(g), true) = (split.gyroscopic, anisotropic > 0) {
-        stages.push(Stage { kind: StageKind::Gyroscopic(g), frac: 1.0 });
-    }
-    let kick = |stages: &mut Vec<Stage>, frac: f64| {
-        if forces && frac != 0.0 {
-            stages.push(Stage { kind: StageKind::Forces, frac });
+    let drift = |sub: &mut Vec<Stage>, frac: f64| {
+        sub.push(Stage::new(StageKind::Translate, frac));
+        for c in classes.into_iter().filter(|&c| lists.count(c) > 0) {
+            sub.push(Stage::new(StageKind::Rotate(c), frac));
         }
     };
-    for (j, &drift) in split.drifts.iter().enumerate() {
-        kick(&mut stages, split.kicks[j]);
-        stages.push(Stage { kind: StageKind::Translate, frac: drift });
-        for class in classes.into_iter().filter(|&c| lists.count(c) > 0) {
-            stages.push(Stage { kind: StageKind::Rotate(class), frac: drift });
+    let split = inp.integrator.splitting();
+    if dynamic {
+        if let Some(g) = split.as_ref().and_then(|s| s.gyroscopic) {
+            if !lists.anisotropic_index.is_empty() {
+                p.sub.push(Stage::new(StageKind::Gyroscopic(g), 1.0));
+            }
+        }
+        if inp.collisions && inp.forces {
+            p.sub.push(Stage::new(StageKind::Forces(Group::Touching), 1.0));
         }
     }
-    kick(&mut stages, split.kicks[split.drifts.len()]);
-    stages
+    if inp.collisions {
+        p.sub.push(Stage::new(StageKind::Gather { relax: false }, 1.0));
+        if inp.impacts {
+            p.sub.push(Stage::new(StageKind::Impacts, 1.0));
+        }
+        p.sub.push(Stage::new(StageKind::WarmStart, 1.0));
+        solve(&mut p.sub, inp, false);
+    }
+    if inp.kinematic {
+        p.sub.push(Stage::new(StageKind::Kinematic, 1.0));
+    }
+    if dynamic {
+        match &split {
+            None => {
+                p.sub.push(Stage::new(StageKind::Rk4 { group: free, forces: inp.forces }, 1.0));
+                if inp.collisions {
+                    p.sub.push(Stage::new(StageKind::Rk4 { group: Group::Touching, forces: false }, 1.0));
+                }
+            }
+            Some(s) => {
+                for (j, &d) in s.drifts.iter().enumerate() {
+                    if inp.forces && s.kicks[j] != 0.0 {
+                        p.sub.push(Stage::new(StageKind::Forces(free), s.kicks[j]));
+                    }
+                    drift(&mut p.sub, d);
+                }
+                let last = s.kicks[s.drifts.len()];
+                if inp.forces && last != 0.0 {
+                    // The closing kick goes after the relax so resting bodies end at rest.
+                    if inp.ccd {
+                        p.sub.push(Stage::new(StageKind::Ccd, 1.0));
+                    }
+                    if inp.collisions {
+                        solve(&mut p.sub, inp, true);
+                    }
+                    p.sub.push(Stage::new(StageKind::Forces(free), last));
+                    return finish(p, inp);
+                }
+            }
+        }
+    }
+    if inp.ccd && dynamic {
+        p.sub.push(Stage::new(StageKind::Ccd, 1.0));
+    }
+    if inp.collisions {
+        solve(&mut p.sub, inp, true);
+    }
+    finish(p, inp)
+}
+
+/// Solver iterations; the relax pass gathers first, and each pass scatters after.
+fn solve(sub: &mut Vec<Stage>, inp: &PlanInputs, relax: bool) {
+    if relax {
+        sub.push(Stage::new(StageKind::Gather { relax }, 1.0));
+    }
+    for _ in 0..inp.iterations.max(1) {
+        if inp.friction {
+            sub.push(Stage::new(StageKind::Friction { relax }, 1.0));
+        }
+        sub.push(Stage::new(StageKind::Normal { relax }, 1.0));
+    }
+    sub.push(Stage::new(StageKind::Scatter { relax }, 1.0));
+}
+
+fn finish(mut p: Plan, inp: &PlanInputs) -> Plan {
+    if inp.sleep {
+        p.post.push(Stage::new(StageKind::Sleep, 1.0));
+    }
+    p
 }

@@ -5,6 +5,7 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
 use super::{Settings, World};
 use crate::body::mass::{inertia_matrix, validate_inertia};
+use crate::collide::{Filter, Material};
 use crate::body::storage::BodyInit;
 use crate::body::{BodyKind, MassProps, Shape};
 use crate::error::{finite3, positive, Error, Result};
@@ -40,6 +41,15 @@ pub struct BodySpec {
     pub angular_velocity: [f64; 3],
     /// A fixed body never moves and needs no mass. Default false.
     pub fixed: bool,
+    /// A kinematic body moves with the velocities the user gives it, has infinite
+    /// mass and needs none. Default false.
+    pub kinematic: bool,
+    /// Surface material of the shape. Default: friction 0.5, restitution 0.
+    pub material: Material,
+    /// Collision filter of the shape. Default: group 1, collides with all.
+    pub filter: Filter,
+    /// Continuous collision detection for this body. Default false.
+    pub ccd: bool,
 }
 
 impl Default for BodySpec {
@@ -55,6 +65,10 @@ impl Default for BodySpec {
             linear_velocity: [0.0; 3],
             angular_velocity: [0.0; 3],
             fixed: false,
+            kinematic: false,
+            material: Material::default(),
+            filter: Filter::default(),
+            ccd: false,
         }
     }
 }
@@ -67,6 +81,9 @@ pub struct BodyDesc {
     pub shape: Option<Shape>,
     /// Pose of the shape's frame in the body's principal frame.
     pub shape_pose: Isometry3<f64>,
+    pub material: Material,
+    pub filter: Filter,
+    pub ccd: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -106,6 +123,13 @@ impl Scene {
         settings.validate()?;
         World::new(self, settings.clone())
     }
+}
+
+/// A validated pose from a position (m) and an (x, y, z, w) quaternion (normalised).
+pub fn pose(p: [f64; 3], q: [f64; 4]) -> Result<Isometry3<f64>> {
+    finite3("position", p)?;
+    let q = unit_quaternion(q)?;
+    Ok(Isometry3::from_parts(Translation3::from(Vec3::from(p)), UnitQuaternion::new_unchecked(q)))
 }
 
 fn unit_quaternion(q: [f64; 4]) -> Result<Quat> {
@@ -178,13 +202,21 @@ fn describe(spec: BodySpec) -> Result<BodyDesc> {
     if let Some(m) = spec.mass {
         positive("mass", m)?;
     }
+    if spec.fixed && spec.kinematic {
+        return Err(Error::input("a body cannot be both fixed and kinematic"));
+    }
+    if spec.ccd && spec.shape.is_none() {
+        return Err(Error::input("ccd=True needs a shape to sweep"));
+    }
     let (kind, props) = if spec.fixed {
         (BodyKind::Fixed, None)
+    } else if spec.kinematic {
+        (BodyKind::Kinematic, None)
     } else {
         (BodyKind::Dynamic, Some(mass_of(&spec)?))
     };
-    // The body frame is the principal frame at the centre of mass; a fixed body
-    // keeps the frame it was given.
+    // The body frame is the principal frame at the centre of mass; a fixed or
+    // kinematic body keeps the frame it was given.
     let (com, principal) = match &props {
         Some(mp) => (mp.com, mp.principal()),
         None => (Vec3::zeros(), crate::body::Principal { moments: [f64::INFINITY; 3], frame: Quat::identity() }),
@@ -203,5 +235,5 @@ fn describe(spec: BodySpec) -> Result<BodyDesc> {
         Translation3::from(-quat::rotate(&inv_frame, &com)),
         UnitQuaternion::new_unchecked(inv_frame),
     );
-    Ok(BodyDesc { init, shape: spec.shape, shape_pose })
+    Ok(BodyDesc { init, shape: spec.shape, shape_pose, material: spec.material, filter: spec.filter, ccd: spec.ccd })
 }

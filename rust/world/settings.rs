@@ -1,7 +1,9 @@
 //! Parameters of [`super::Scene::build`], each with its unit and default.
 
-use crate::error::{positive, Error, Result};
+use crate::error::{non_negative, positive, Error, Result};
 use crate::integrate::Integrator;
+use crate::solve::islands::SleepSettings;
+use crate::solve::SolverSettings;
 
 #[derive(Clone, Debug)]
 pub struct Settings {
@@ -9,20 +11,44 @@ pub struct Settings {
     pub dt: f64,
     /// The time integrator. Default: [`Integrator::Strang`].
     pub integrator: Integrator,
-    /// Substeps per step: each runs the pipeline with `dt / substeps`. Default: 1.
-    pub substeps: u32,
+    /// Substeps per step: each runs the substep stages with `dt / substeps`.
+    /// Default (`None`): 1 without contacts, 4 with them.
+    pub substeps: Option<u32>,
+    /// Contact solver iterations per substep (and as many relax iterations). Default 1.
+    pub iterations: u32,
+    pub solver: SolverSettings,
+    pub sleep: SleepSettings,
 }
 
 impl Settings {
     pub fn new(dt: f64) -> Self {
-        Self { dt, integrator: Integrator::Strang, substeps: 1 }
+        Self {
+            dt,
+            integrator: Integrator::Strang,
+            substeps: None,
+            iterations: 1,
+            solver: SolverSettings::default(),
+            sleep: SleepSettings::default(),
+        }
     }
 
     pub fn validate(&self) -> Result<()> {
         positive("dt", self.dt)?;
-        if self.substeps == 0 {
+        if self.substeps == Some(0) {
             return Err(Error::input("substeps must be at least 1, got 0"));
         }
+        if self.iterations == 0 {
+            return Err(Error::input("iterations must be at least 1, got 0"));
+        }
+        let s = &self.solver;
+        non_negative("contact_hertz", s.contact_hertz)?;
+        non_negative("contact_damping_ratio", s.contact_damping_ratio)?;
+        positive("max_push_velocity", s.max_push_velocity)?;
+        non_negative("restitution_threshold", s.restitution_threshold)?;
+        non_negative("margin", s.margin)?;
+        non_negative("sleep linear threshold", self.sleep.linear)?;
+        non_negative("sleep angular threshold", self.sleep.angular)?;
+        non_negative("sleep time", self.sleep.time)?;
         Ok(())
     }
 }

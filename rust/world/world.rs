@@ -1,28 +1,16 @@
-//! The compiled simulation: state arrays of fixed layout and the pipeline of stages
-//! the scene needs.
+//! The compiled simulation: state arrays of fixed layout, the colliders and the
+//! plan of stages the scene needs.
 
-use std::time::Instant;
-
-use nalgebra::Isometry3;
-
-use super::pipeline::{plan, Stage, StageKind};
+use super::collision::Collision;
+use super::pipeline::{plan, Plan, PlanInputs};
 use super::profile::Profile;
-use super::{validate, Scene, Settings};
-use crate::body::{Bodies, Shape};
+use super::{Scene, Settings};
+use crate::body::{BodyKind, Bodies, Shape};
 use crate::error::{Error, Result};
 use crate::integrate::kick::KickSources;
-use crate::integrate::{
-    drift, euler, free_rotation, implicit_gyro, kick, rk4, symplectic_euler, BodyLists, Gyroscopic, InertiaClass,
-    Integrator, Rotation,
-};
+use crate::integrate::{BodyLists, Integrator, Rotation};
 use crate::math::Vec3;
-
-/// The stages for the current force sources, with their profile slots.
-#[derive(Clone, Debug, Default)]
-struct Plan {
-    forces: bool,
-    stages: Vec<(Stage, usize)>,
-}
+use nalgebra::Isometry3;
 
 pub struct World {
     /// Body state (views of these arrays are what Python sees).
@@ -30,11 +18,20 @@ pub struct World {
     /// Each body's shape and its pose in the body's principal frame.
     pub shapes: Vec<Option<(Shape, Isometry3<f64>)>>,
     pub(crate) gravity: Vec3,
-    settings: Settings,
-    rotation: Rotation,
-    lists: BodyLists,
-    plan: Plan,
-    steps: u64,
+    pub(crate) settings: Settings,
+    /// Substeps per step, resolved from the settings and the scene.
+    pub(crate) substeps: u32,
+    pub(crate) rotation: Rotation,
+    /// Awake dynamic bodies by class (rebuilt when bodies sleep or wake).
+    pub(crate) lists: BodyLists,
+    /// This step's awake dynamic bodies in contact, and the others.
+    pub(crate) touching: Vec<u32>,
+    pub(crate) free: Vec<u32>,
+    pub(crate) kinematic: Vec<u32>,
+    pub collision: Option<Collision>,
+    pub(crate) plan: Plan,
+    pub(crate) plan_inputs: PlanInputs,
+    pub(crate) steps: u64,
     /// Whether the derived arrays (rotation, angular momentum, world inertia) are
     /// kept fresh after each `step` call; set once a user reads one of them.
     pub keep_derived: bool,
@@ -49,16 +46,36 @@ impl World {
             bodies.push(&d.init);
         }
         let shapes = descs.iter().map(|d| d.shape.clone().map(|s| (s, d.shape_pose))).collect();
+        let collision = Collision::new(descs, &bodies, &settings)?;
+        let substeps = settings.substeps.unwrap_or(if collision.is_some() { 4 } else { 1 });
         let lists = BodyLists::new(&bodies);
+        let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
         let rotation = settings.integrator.splitting().map_or(Rotation::Free, |s| s.rotation);
+        let plan_inputs = PlanInputs {
+            integrator: settings.integrator,
+            forces: false,
+            collisions: collision.is_some(),
+            impacts: collision.as_ref().is_some_and(|c| c.bouncy),
+            friction: collision.as_ref().is_some_and(|c| c.frictional),
+            ccd: collision.as_ref().is_some_and(|c| !c.ccd.is_empty()),
+            kinematic: descs.iter().any(|d| d.init.kind == BodyKind::Kinematic),
+            sleep: collision.is_some() && settings.sleep.enabled,
+            iterations: settings.iterations,
+        };
         let mut world = World {
             bodies,
             shapes,
             gravity: Vec3::from(scene.gravity),
             settings,
+            substeps,
             rotation,
+            free: lists.dynamic.clone(),
             lists,
+            touching: Vec::new(),
+            kinematic,
+            collision,
             plan: Plan::default(),
+            plan_inputs,
             steps: 0,
             keep_derived: false,
             profile: Profile::default(),
@@ -74,6 +91,10 @@ impl World {
 
     pub fn settings(&self) -> &Settings {
         &self.settings
+    }
+
+    pub fn substeps(&self) -> u32 {
+        self.substeps
     }
 
     pub fn integrator(&self) -> Integrator {
@@ -94,70 +115,36 @@ impl World {
     }
 
     /// What the kick stage would apply now.
-    fn kick_sources(&self) -> KickSources {
+    pub(crate) fn kick_sources(&self) -> KickSources {
         let nonzero = |a: &[[f64; 3]]| self.lists.dynamic.iter().any(|&i| a[i as usize] != [0.0; 3]);
         KickSources { gravity: self.gravity, force: nonzero(&self.bodies.force), torque: nonzero(&self.bodies.torque) }
     }
 
-    fn replan(&mut self, force: bool) {
+    /// Rebuilds the plan if the force sources changed (or `always`).
+    pub(crate) fn replan(&mut self, always: bool) {
         let forces = self.kick_sources().any();
-        if !force && forces == self.plan.forces {
+        if !always && forces == self.plan_inputs.forces {
             return;
         }
-        let stages = plan(self.settings.integrator, &self.lists, forces);
-        let stages = stages.into_iter().map(|s| (s, self.profile.slot(s.name()))).collect();
-        self.plan = Plan { forces, stages };
+        self.plan_inputs.forces = forces;
+        self.plan = plan(&self.plan_inputs, &self.lists);
+        self.plan.assign_slots(&mut self.profile);
     }
 
-    /// Names of the stages one (sub)step runs now, in order.
+    /// Rebuilds the class lists after bodies fell asleep or woke.
+    pub(crate) fn relist(&mut self) {
+        self.lists = BodyLists::new(&self.bodies);
+        self.plan = plan(&self.plan_inputs, &self.lists);
+        self.plan.assign_slots(&mut self.profile);
+    }
+
+    /// Names of the stages one step runs now, in order (pre, one substep, post),
+    /// with repeats in a row shown once.
     pub fn stage_names(&mut self) -> Vec<&'static str> {
         self.replan(false);
-        self.plan.stages.iter().map(|(s, _)| s.name()).collect()
-    }
-
-    /// Advances `n` steps. The state is checked first: if a body is invalid (NaN,
-    /// non-unit quaternion written through a view) nothing moves and the error
-    /// names the body.
-    pub fn step(&mut self, n: u64) -> Result<()> {
-        validate::check(&self.bodies)?;
-        validate::normalize(&mut self.bodies);
-        self.replan(false);
-        let src = self.kick_sources();
-        let h = self.settings.dt / self.settings.substeps as f64;
-        let stages = std::mem::take(&mut self.plan.stages);
-        for _ in 0..n {
-            for _ in 0..self.settings.substeps {
-                for &(stage, slot) in &stages {
-                    if self.profile.enabled {
-                        let t0 = Instant::now();
-                        self.run(stage, h, &src);
-                        self.profile.add(slot, t0);
-                    } else {
-                        self.run(stage, h, &src);
-                    }
-                }
-            }
-        }
-        self.plan.stages = stages;
-        self.steps += n;
-        self.profile.count_steps(n);
-        if self.keep_derived {
-            self.bodies.update_derived();
-        }
-        Ok(())
-    }
-
-    fn run(&mut self, stage: Stage, h: f64, src: &KickSources) {
-        let h = h * stage.frac;
-        let (b, l) = (&mut self.bodies, &self.lists);
-        match stage.kind {
-            StageKind::Forces => kick::kick(b, &l.dynamic, h, src),
-            StageKind::Translate => drift::translate(b, &l.dynamic, h),
-            StageKind::Rk4 => rk4::step(b, &l.dynamic, h, src),
-            StageKind::Gyroscopic(Gyroscopic::Explicit) => symplectic_euler::gyroscopic_explicit(b, &l.anisotropic_index, h),
-            StageKind::Gyroscopic(Gyroscopic::Implicit) => implicit_gyro::gyroscopic_implicit(b, &l.anisotropic_index, h),
-            StageKind::Rotate(class) => rotate(b, l, class, self.rotation, h),
-        }
+        let mut names: Vec<&'static str> = self.plan.stages().map(|s| s.name()).collect();
+        names.dedup();
+        names
     }
 
     /// Adds a force (N, world) to body `i`; with `point` (world, m) it also adds the
@@ -187,6 +174,11 @@ impl World {
         Ok(())
     }
 
+    /// This step's contact points (empty without a collision stage).
+    pub fn contacts(&self) -> Vec<crate::collide::narrow_phase::ContactReport> {
+        self.collision.as_ref().map_or_else(Vec::new, |c| c.reports())
+    }
+
     /// Sets every applied force and torque to zero.
     pub fn clear_forces(&mut self) {
         self.bodies.force.fill([0.0; 3]);
@@ -198,21 +190,9 @@ impl World {
         if i >= n {
             return Err(Error::input(format!("body index {i} is out of range: the world has {n} bodies")));
         }
-        if self.bodies.kind[i] != crate::body::BodyKind::Dynamic {
-            return Err(Error::input(format!("body {i} is fixed: forces on it would have no effect")));
+        if self.bodies.kind[i] != BodyKind::Dynamic {
+            return Err(Error::input(format!("body {i} is not dynamic: forces on it would have no effect")));
         }
         Ok(())
-    }
-}
-
-fn rotate(b: &mut Bodies, l: &BodyLists, class: InertiaClass, method: Rotation, h: f64) {
-    use InertiaClass::*;
-    match (method, class) {
-        (Rotation::Free, Isotropic) => free_rotation::rotate_isotropic(b, &l.isotropic, h),
-        (Rotation::Free, Symmetric) => free_rotation::rotate_symmetric(b, &l.symmetric, h),
-        (Rotation::Free, Asymmetric) => free_rotation::rotate_asymmetric(b, &l.asymmetric, h),
-        (Rotation::Euler, Isotropic) => euler::rotate_isotropic(b, &l.isotropic, h),
-        (Rotation::Euler, c) => euler::rotate(b, l.indices(c), h),
-        (Rotation::Exp, c) => symplectic_euler::rotate_exp(b, l.indices(c), h),
     }
 }

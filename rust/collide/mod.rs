@@ -1,0 +1,11 @@
+//! Collision detection: colliders, the broad phase (sweep and prune), the narrow
+//! phase (parry's persistent contact manifolds) and continuous collision detection.
+
+pub mod broad_phase;
+pub mod ccd;
+pub mod collider;
+pub mod material;
+pub mod narrow_phase;
+
+pub use collider::{Collider, Filter};
+pub use material::Material;

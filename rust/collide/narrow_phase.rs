@@ -1,0 +1,132 @@
+//! Contact manifolds per colliding pair, computed by parry and kept across steps:
+//! parry matches new contact points to old ones by feature id, carrying the
+//! accumulated impulses used to warm-start the solver.
+
+use std::collections::HashMap;
+
+use parry3d_f64::query::{ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
+
+use super::collider::Collider;
+use crate::body::Bodies;
+
+/// What a contact point carries from one step to the next (world frame).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactData {
+    /// Normal impulse of the last substep (N·s), to warm-start the next.
+    pub normal_impulse: f64,
+    /// Friction impulse of the last substep (N·s, world).
+    pub friction_impulse: [f64; 3],
+}
+
+pub type Manifold = ContactManifold<(), ContactData>;
+
+#[derive(Default)]
+pub struct PairState {
+    pub manifolds: Vec<Manifold>,
+    workspace: Option<ContactManifoldsWorkspace>,
+    stamp: u64,
+}
+
+/// The persistent pairs, and the ones with contact points this step (in a
+/// deterministic order: that of the broad phase's sorted candidates).
+#[derive(Default)]
+pub struct NarrowPhase {
+    pub pairs: HashMap<(u32, u32), PairState>,
+    pub touching: Vec<(u32, u32)>,
+    stamp: u64,
+}
+
+/// How far ahead (m) contacts are predicted for a pair.
+pub struct Prediction {
+    /// Always added (m).
+    pub margin: f64,
+    /// Step (s): points moving toward each other within `dt` are predicted.
+    pub dt: f64,
+}
+
+impl NarrowPhase {
+    /// Updates the manifolds of `candidates` (sorted collider pairs). Pairs that are
+    /// no longer candidates are dropped, except those `dormant(i, j)` (both bodies
+    /// asleep), whose warm-start data waits for them to wake.
+    pub fn update(
+        &mut self,
+        colliders: &[Collider],
+        bodies: &Bodies,
+        candidates: &[(u32, u32)],
+        pred: &Prediction,
+        dormant: impl Fn(u32, u32) -> bool,
+    ) {
+        self.stamp += 1;
+        let stamp = self.stamp;
+        self.touching.clear();
+        for &(i, j) in candidates {
+            let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
+            let state = self.pairs.entry((i, j)).or_default();
+            state.stamp = stamp;
+            let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
+            let pos12 = pose1.inv_mul(&pose2);
+            // Contacts are predicted as far as the bodies can travel in a step, but a
+            // body without CCD looks no further than its own size ahead: a bullet
+            // without CCD may tunnel, with it never does.
+            let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
+            let prediction = pred.margin + (pred.dt * approach_bound(c1, c2, bodies)).min(reach);
+            // Unsupported pairs are rejected when the world is built; none reach here.
+            let _ = DefaultQueryDispatcher.contact_manifolds(
+                &pos12,
+                c1.shape.as_ref(),
+                c2.shape.as_ref(),
+                prediction,
+                &mut state.manifolds,
+                &mut state.workspace,
+            );
+            if state.manifolds.iter().any(|m| !m.points.is_empty()) {
+                self.touching.push((i, j));
+            }
+        }
+        self.pairs.retain(|&(i, j), s| s.stamp == stamp || dormant(i, j));
+    }
+}
+
+/// An upper bound of the speed at which the two shapes approach (m/s).
+fn approach_bound(c1: &Collider, c2: &Collider, b: &Bodies) -> f64 {
+    let speed = |c: &Collider| {
+        let i = c.body as usize;
+        let v = b.linear_velocity[i];
+        let w = b.angular_velocity[i];
+        let n = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        n(v) + n(w) * c.reach
+    };
+    speed(c1) + speed(c2)
+}
+
+/// Whether parry generates contacts between these two shapes (checked at build).
+pub fn supported(a: &Collider, b: &Collider) -> bool {
+    use parry3d_f64::shape::ShapeType;
+    // parry runs mesh-mesh pairs triangle by triangle and drops what it cannot do.
+    if a.shape.shape_type() == ShapeType::TriMesh && b.shape.shape_type() == ShapeType::TriMesh {
+        return false;
+    }
+    let mut manifolds: Vec<Manifold> = Vec::new();
+    let mut ws = None;
+    let far = nalgebra::Isometry3::translation(1e6, 0.0, 0.0);
+    DefaultQueryDispatcher
+        .contact_manifolds(&far, a.shape.as_ref(), b.shape.as_ref(), 0.0, &mut manifolds, &mut ws)
+        .is_ok()
+}
+
+/// A plain copy of one contact point, for reporting.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactReport {
+    pub body_a: u32,
+    pub body_b: u32,
+    /// World contact point, midway between the two surfaces (m).
+    pub point: [f64; 3],
+    /// World normal, from body a to body b.
+    pub normal: [f64; 3],
+    /// Penetration depth (m); negative when the point is predicted, not touching.
+    pub depth: f64,
+    /// Normal impulse over the step (N·s).
+    pub normal_impulse: f64,
+    /// Friction impulse over the step, world (N·s).
+    pub friction_impulse: [f64; 3],
+}

@@ -1,0 +1,430 @@
+//! Contact constraints built once per step from the narrow phase's manifolds:
+//! anchors, normal and tangent basis, effective masses; and the bookkeeping
+//! around the solve (solver bodies, warm start, totals for reporting, data kept
+//! for next step).
+//!
+//! Anchors are fixed at the step start; the separation is updated during the
+//! substeps from how far each body has moved and turned since (as in Box2D v3),
+//! without running collision detection again. The solve works on a packed copy of
+//! the bodies it touches (`SolverBody`), gathered before and scattered after each
+//! solve phase, so its inner loops read one contiguous record per body.
+
+use super::soft::Softness;
+use crate::body::Bodies;
+use crate::collide::collider::Collider;
+use crate::collide::material::combine;
+use crate::collide::narrow_phase::{ContactReport, NarrowPhase};
+use crate::math::{quat, Mat3, Quat, Vec3};
+
+/// Contact solver parameters, each with its unit and default.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverSettings {
+    /// Stiffness of contacts as a natural frequency (Hz); capped at a quarter of
+    /// the substep rate. Default 30.
+    pub contact_hertz: f64,
+    /// Damping ratio of contacts (–). Default 10 (over-damped: no bounce from the
+    /// position correction).
+    pub contact_damping_ratio: f64,
+    /// Largest speed at which penetration is pushed out (m/s). Default 3.
+    pub max_push_velocity: f64,
+    /// Approach speed below which contacts do not bounce (m/s). Default 1; 0 allowed.
+    pub restitution_threshold: f64,
+    /// Distance within which contacts are created before touching (m), on top of
+    /// the distance bodies can close in a step. Default 0.005.
+    pub margin: f64,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            contact_hertz: 30.0,
+            contact_damping_ratio: 10.0,
+            max_push_velocity: 3.0,
+            restitution_threshold: 1.0,
+            margin: 0.005,
+        }
+    }
+}
+
+/// A body as the solver sees it. Entry 0 stands for every fixed body.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverBody {
+    pub v: Vec3,
+    pub w: Vec3,
+    /// Position and rotation change since the step start.
+    pub dp: Vec3,
+    pub dq: Quat,
+    pub inv_m: f64,
+    pub inv_i: Mat3,
+    /// Index in the world's bodies, and whether its velocities are written back.
+    pub body: u32,
+    pub dynamic: bool,
+}
+
+impl Default for SolverBody {
+    fn default() -> Self {
+        Self {
+            v: Vec3::zeros(),
+            w: Vec3::zeros(),
+            dp: Vec3::zeros(),
+            dq: Quat::identity(),
+            inv_m: 0.0,
+            inv_i: Mat3::zeros(),
+            body: u32::MAX,
+            dynamic: false,
+        }
+    }
+}
+
+/// One contact point.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Point {
+    /// Anchors relative to each centre of mass at the step start, world (m).
+    pub r1: Vec3,
+    pub r2: Vec3,
+    /// `r × n` and `I⁻¹ (r × n)` of each body.
+    pub rn1: Vec3,
+    pub rn2: Vec3,
+    pub irn1: Vec3,
+    pub irn2: Vec3,
+    /// Separation at the step start minus `n·(r2 − r1)` (m).
+    pub base_separation: f64,
+    /// Separation at the step start (m); negative when penetrating.
+    pub separation: f64,
+    /// World contact point at the step start, midway between the surfaces (m).
+    pub point: Vec3,
+    /// `1/K` with `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` (kg).
+    pub normal_mass: f64,
+    /// Inverse of the 2x2 tangent effective mass, `[a, b, c]` of `[[a, b], [b, c]]` (kg).
+    pub tangent_mass: [f64; 3],
+    /// Accumulated impulses of the current substep (N·s).
+    pub normal_impulse: f64,
+    pub tangent_impulse: [f64; 2],
+    /// Impulses summed over the step, for reporting (N·s).
+    pub total_normal: f64,
+    pub total_tangent: [f64; 2],
+    /// Index of this point in its parry manifold.
+    pub manifold_point: u32,
+}
+
+/// The points of one manifold, sharing bodies, normal and material.
+#[derive(Clone, Copy, Debug)]
+pub struct Constraint {
+    /// Solver-body indices (0: fixed).
+    pub s1: u32,
+    pub s2: u32,
+    /// World normal from body 1 to body 2, and the tangent basis.
+    pub normal: Vec3,
+    pub t1: Vec3,
+    pub t2: Vec3,
+    pub friction: f64,
+    pub static_friction: f64,
+    pub restitution: f64,
+    /// Range of the points in `ContactSolver::points`.
+    pub start: u32,
+    pub len: u32,
+    /// Bodies, collider pair and manifold index it came from.
+    pub b1: u32,
+    pub b2: u32,
+    pub pair: (u32, u32),
+    pub manifold: u32,
+}
+
+/// The contact solver's state for one step.
+#[derive(Default)]
+pub struct ContactSolver {
+    pub constraints: Vec<Constraint>,
+    pub points: Vec<Point>,
+    pub bodies: Vec<SolverBody>,
+    /// Per world body: its solver index this step (0 when not in the solve).
+    slot: Vec<u32>,
+    /// Per solver body: pose at the step start.
+    p0: Vec<Vec3>,
+    q0: Vec<Quat>,
+    /// Per world body: whether it is dynamic, awake and in some constraint this step.
+    pub touching: Vec<bool>,
+    pub softness: Softness,
+    pub inv_h: f64,
+    pub settings: SolverSettings,
+    substeps_done: u32,
+}
+
+/// Any unit vector orthogonal to `n`.
+pub fn orthonormal(n: &Vec3) -> Vec3 {
+    let a = if n.x.abs() < 0.577 { Vec3::x() } else if n.y.abs() < 0.577 { Vec3::y() } else { Vec3::z() };
+    let t = a - n * n.dot(&a);
+    t / t.norm()
+}
+
+#[inline(always)]
+fn rotate(q: &Quat, v: &Vec3) -> Vec3 {
+    quat::rotate(q, v)
+}
+
+impl ContactSolver {
+    pub fn new(n_bodies: usize, settings: SolverSettings) -> Self {
+        Self { slot: vec![0; n_bodies], touching: vec![false; n_bodies], settings, ..Default::default() }
+    }
+
+    /// The solver index of world body `i`, creating its entry if it moves.
+    fn enter(&mut self, b: &Bodies, i: usize) -> u32 {
+        if self.slot[i] != 0 {
+            return self.slot[i];
+        }
+        if !b.moving(i) {
+            return 0;
+        }
+        let dynamic = b.awake(i);
+        let inv_i = if dynamic { inv_inertia_world(b, i) } else { Mat3::zeros() };
+        self.bodies.push(SolverBody {
+            inv_m: if dynamic { b.inv_mass[i] } else { 0.0 },
+            inv_i,
+            body: i as u32,
+            dynamic,
+            ..Default::default()
+        });
+        self.p0.push(Vec3::from(b.position[i]));
+        self.q0.push(b.q(i));
+        self.touching[i] = dynamic;
+        self.slot[i] = (self.bodies.len() - 1) as u32;
+        self.slot[i]
+    }
+
+    /// Builds the constraints of this step from the touching pairs.
+    pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, h: f64) {
+        for s in &self.bodies[self.bodies.len().min(1)..] {
+            self.slot[s.body as usize] = 0;
+            self.touching[s.body as usize] = false;
+        }
+        self.constraints.clear();
+        self.points.clear();
+        self.bodies.clear();
+        self.bodies.push(SolverBody::default());
+        self.p0.clear();
+        self.q0.clear();
+        self.p0.push(Vec3::zeros());
+        self.q0.push(Quat::identity());
+        self.substeps_done = 0;
+        let hertz = self.settings.contact_hertz.min(0.25 / h);
+        self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
+        self.inv_h = 1.0 / h;
+        for &(ci, cj) in &narrow.touching {
+            let Some(state) = narrow.pairs.get(&(ci, cj)) else { continue };
+            let (c1, c2) = (&colliders[ci as usize], &colliders[cj as usize]);
+            let (b1, b2) = (c1.body as usize, c2.body as usize);
+            let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
+            let material = combine(&c1.material, &c2.material);
+            let (pose1, pose2) = (c1.pose(b), c2.pose(b));
+            let (x1, x2) = (Vec3::from(b.position[b1]), Vec3::from(b.position[b2]));
+            for (m, manifold) in state.manifolds.iter().enumerate() {
+                if manifold.points.is_empty() {
+                    continue;
+                }
+                let sub1 = manifold.subshape_pos1.map_or(pose1, |s| pose1 * s);
+                let sub2 = manifold.subshape_pos2.map_or(pose2, |s| pose2 * s);
+                let n = sub1.rotation * manifold.local_n1;
+                let t1 = orthonormal(&n);
+                let t2 = n.cross(&t1);
+                let start = self.points.len() as u32;
+                for (k, tp) in manifold.points.iter().enumerate() {
+                    let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
+                    let (r1, r2) = (mid - x1, mid - x2);
+                    let ft = Vec3::from(tp.data.friction_impulse);
+                    let mut p = Point {
+                        r1,
+                        r2,
+                        base_separation: tp.dist - n.dot(&(r2 - r1)),
+                        separation: tp.dist,
+                        point: mid,
+                        normal_impulse: tp.data.normal_impulse,
+                        tangent_impulse: [ft.dot(&t1), ft.dot(&t2)],
+                        manifold_point: k as u32,
+                        ..Default::default()
+                    };
+                    self.masses(&mut p, s1 as usize, s2 as usize, &n, &t1, &t2);
+                    self.points.push(p);
+                }
+                self.constraints.push(Constraint {
+                    s1,
+                    s2,
+                    normal: n,
+                    t1,
+                    t2,
+                    friction: material.friction,
+                    static_friction: material.static_friction,
+                    restitution: material.restitution,
+                    start,
+                    len: self.points.len() as u32 - start,
+                    b1: b1 as u32,
+                    b2: b2 as u32,
+                    pair: (ci, cj),
+                    manifold: m as u32,
+                });
+            }
+        }
+    }
+
+    fn masses(&self, p: &mut Point, s1: usize, s2: usize, n: &Vec3, t1: &Vec3, t2: &Vec3) {
+        let (a1, a2) = (&self.bodies[s1], &self.bodies[s2]);
+        let (m1, m2) = (a1.inv_m, a2.inv_m);
+        p.rn1 = p.r1.cross(n);
+        p.rn2 = p.r2.cross(n);
+        p.irn1 = a1.inv_i * p.rn1;
+        p.irn2 = a2.inv_i * p.rn2;
+        let kn = m1 + m2 + p.rn1.dot(&p.irn1) + p.rn2.dot(&p.irn2);
+        p.normal_mass = if kn > 0.0 { 1.0 / kn } else { 0.0 };
+        let k = |a: &Vec3, c: &Vec3| {
+            let (ra1, ra2) = (p.r1.cross(a), p.r2.cross(a));
+            let (rc1, rc2) = (p.r1.cross(c), p.r2.cross(c));
+            (m1 + m2) * a.dot(c) + ra1.dot(&(a1.inv_i * rc1)) + ra2.dot(&(a2.inv_i * rc2))
+        };
+        let (a, bb, c) = (k(t1, t1), k(t1, t2), k(t2, t2));
+        let det = a * c - bb * bb;
+        p.tangent_mass = if det > 0.0 { [c / det, -bb / det, a / det] } else { [0.0; 3] };
+    }
+
+    /// Copies velocities and pose changes of the solver bodies from the world.
+    pub fn gather(&mut self, b: &Bodies) {
+        for k in 1..self.bodies.len() {
+            let s = &mut self.bodies[k];
+            let i = s.body as usize;
+            s.v = Vec3::from(b.linear_velocity[i]);
+            s.w = Vec3::from(b.angular_velocity[i]);
+            s.dp = Vec3::from(b.position[i]) - self.p0[k];
+            s.dq = b.q(i) * self.q0[k].conjugate();
+        }
+    }
+
+    /// Writes the solved velocities of the dynamic solver bodies back.
+    pub fn scatter(&self, b: &mut Bodies) {
+        for s in &self.bodies[1..] {
+            if s.dynamic {
+                b.linear_velocity[s.body as usize] = s.v.into();
+                b.angular_velocity[s.body as usize] = s.w.into();
+            }
+        }
+    }
+
+    /// Applies the impulse `imp` (world) at the point: `-imp` to body 1, `+imp` to body 2.
+    #[inline(always)]
+    pub fn apply(&mut self, c: &Constraint, p: &Point, imp: &Vec3) {
+        let a = &mut self.bodies[c.s1 as usize];
+        a.v -= imp * a.inv_m;
+        a.w -= a.inv_i * p.r1.cross(imp);
+        let a = &mut self.bodies[c.s2 as usize];
+        a.v += imp * a.inv_m;
+        a.w += a.inv_i * p.r2.cross(imp);
+    }
+
+    /// Applies a normal impulse `j` (N·s) at the point.
+    #[inline(always)]
+    pub fn apply_normal(&mut self, c: &Constraint, p: &Point, j: f64) {
+        let a = &mut self.bodies[c.s1 as usize];
+        a.v -= c.normal * (j * a.inv_m);
+        a.w -= p.irn1 * j;
+        let a = &mut self.bodies[c.s2 as usize];
+        a.v += c.normal * (j * a.inv_m);
+        a.w += p.irn2 * j;
+    }
+
+    /// Velocity of body 2's anchor relative to body 1's (m/s).
+    #[inline(always)]
+    pub fn relative_velocity(&self, c: &Constraint, p: &Point) -> Vec3 {
+        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
+        (a2.v + a2.w.cross(&p.r2)) - (a1.v + a1.w.cross(&p.r1))
+    }
+
+    /// Normal component of the relative velocity (m/s).
+    #[inline(always)]
+    pub fn normal_velocity(&self, c: &Constraint, p: &Point) -> f64 {
+        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
+        c.normal.dot(&(a2.v - a1.v)) + a2.w.dot(&p.rn2) - a1.w.dot(&p.rn1)
+    }
+
+    /// Current separation: the step-start separation plus how far the anchors
+    /// have moved apart along the normal since (m).
+    #[inline(always)]
+    pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
+        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
+        let d2 = a2.dp + if c.s2 == 0 { p.r2 } else { rotate(&a2.dq, &p.r2) };
+        let d1 = a1.dp + if c.s1 == 0 { p.r1 } else { rotate(&a1.dq, &p.r1) };
+        p.base_separation + c.normal.dot(&(d2 - d1))
+    }
+
+    /// Re-applies the impulses of the previous substep (or step) and adds the
+    /// previous substep's to the step totals.
+    pub fn warm_start(&mut self) {
+        let first = self.substeps_done == 0;
+        self.substeps_done += 1;
+        for ci in 0..self.constraints.len() {
+            let c = self.constraints[ci];
+            for k in c.start..c.start + c.len {
+                let p = &mut self.points[k as usize];
+                if !first {
+                    p.total_normal += p.normal_impulse;
+                    p.total_tangent[0] += p.tangent_impulse[0];
+                    p.total_tangent[1] += p.tangent_impulse[1];
+                }
+                let p = *p;
+                let imp = c.normal * p.normal_impulse + c.t1 * p.tangent_impulse[0] + c.t2 * p.tangent_impulse[1];
+                if imp != Vec3::zeros() {
+                    self.apply(&c, &p, &imp);
+                }
+            }
+        }
+    }
+
+    /// Ends the step: adds the last substep to the totals and keeps the impulses
+    /// in the manifolds for the next step's warm start.
+    pub fn finish(&mut self, narrow: &mut NarrowPhase) {
+        for c in &self.constraints {
+            let Some(state) = narrow.pairs.get_mut(&c.pair) else { continue };
+            let Some(m) = state.manifolds.get_mut(c.manifold as usize) else { continue };
+            for k in c.start..c.start + c.len {
+                let p = &mut self.points[k as usize];
+                p.total_normal += p.normal_impulse;
+                p.total_tangent[0] += p.tangent_impulse[0];
+                p.total_tangent[1] += p.tangent_impulse[1];
+                if let Some(tp) = m.points.get_mut(p.manifold_point as usize) {
+                    tp.data.normal_impulse = p.normal_impulse;
+                    tp.data.friction_impulse = (c.t1 * p.tangent_impulse[0] + c.t2 * p.tangent_impulse[1]).into();
+                }
+            }
+        }
+    }
+
+    /// This step's contact points.
+    pub fn reports(&self) -> Vec<ContactReport> {
+        let mut out = Vec::with_capacity(self.points.len());
+        for c in &self.constraints {
+            for p in &self.points[c.start as usize..(c.start + c.len) as usize] {
+                out.push(ContactReport {
+                    body_a: c.b1,
+                    body_b: c.b2,
+                    point: p.point.into(),
+                    normal: c.normal.into(),
+                    depth: -p.separation,
+                    normal_impulse: p.total_normal,
+                    friction_impulse: (c.t1 * p.total_tangent[0] + c.t2 * p.total_tangent[1]).into(),
+                });
+            }
+        }
+        out
+    }
+
+    /// Moves solver body `s` (and its world body) by `dx` and turns it by `dtheta`.
+    pub fn displace(&mut self, b: &mut Bodies, s: usize, dx: &Vec3, dtheta: &Vec3) {
+        let i = self.bodies[s].body as usize;
+        b.position[i] = (Vec3::from(b.position[i]) + dx).into();
+        let q = quat::exp(dtheta) * b.q(i);
+        b.orientation[i] = quat::to_xyzw(&(q / q.norm()));
+        self.bodies[s].dp += dx;
+        self.bodies[s].dq = quat::exp(dtheta) * self.bodies[s].dq;
+    }
+}
+
+/// `R I0⁻¹ Rᵀ` of body `i`.
+pub fn inv_inertia_world(b: &Bodies, i: usize) -> Mat3 {
+    let r = quat::to_matrix(&b.q(i));
+    r * Mat3::from_diagonal(&Vec3::from(b.inv_inertia[i])) * r.transpose()
+}

@@ -1,0 +1,45 @@
+//! Coulomb friction on a true cone. The tangential impulse of a point is a 2D
+//! vector solved as a block with the 2x2 tangent effective mass, then projected
+//! onto the disc of radius `μ λn`: while it fits inside `μs λn` the point sticks;
+//! beyond, it slides with `|λt| = μk λn` along the direction the block solve gave.
+//! No pyramid: the friction force has no preferred axes.
+
+use super::contact::{Constraint, ContactSolver, Point};
+
+/// The tangential impulse `λ + Δλ` (with `Δλ = −K_t⁻¹ v_t`) limited to the cone of
+/// a normal impulse `jn`.
+#[inline(always)]
+pub fn cone(c: &Constraint, p: &Point, vt: [f64; 2], lambda: [f64; 2], jn: f64) -> [f64; 2] {
+    let [a, b, cc] = p.tangent_mass;
+    let mut l = [lambda[0] - (a * vt[0] + b * vt[1]), lambda[1] - (b * vt[0] + cc * vt[1])];
+    let norm = (l[0] * l[0] + l[1] * l[1]).sqrt();
+    if norm > c.static_friction * jn {
+        let scale = if norm > 0.0 { c.friction * jn / norm } else { 0.0 };
+        l = [l[0] * scale, l[1] * scale];
+    }
+    l
+}
+
+impl ContactSolver {
+    pub fn solve_friction(&mut self) {
+        for ci in 0..self.constraints.len() {
+            let c = self.constraints[ci];
+            if c.static_friction == 0.0 {
+                continue;
+            }
+            for k in c.start..c.start + c.len {
+                let p = self.points[k as usize];
+                if p.normal_impulse == 0.0 && p.tangent_impulse == [0.0, 0.0] {
+                    continue;
+                }
+                let dv = self.relative_velocity(&c, &p);
+                let l = cone(&c, &p, [c.t1.dot(&dv), c.t2.dot(&dv)], p.tangent_impulse, p.normal_impulse);
+                let d = [l[0] - p.tangent_impulse[0], l[1] - p.tangent_impulse[1]];
+                self.points[k as usize].tangent_impulse = l;
+                if d != [0.0, 0.0] {
+                    self.apply(&c, &p, &(c.t1 * d[0] + c.t2 * d[1]));
+                }
+            }
+        }
+    }
+}

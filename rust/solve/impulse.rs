@@ -1,0 +1,47 @@
+//! The normal impulse `J = j n` of the seed, as a sequential-impulse solve on a
+//! soft constraint: `j = −(1/K)·s_m·(v_n + bias) − s_i·λ`, the accumulated impulse
+//! `λ` clamped at zero (contacts push, never pull), with
+//! `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` the effective mass.
+//!
+//! A separated (speculative) point lets the bodies close the gap within the
+//! substep and no more: `bias = s/h`. A penetrating one is pushed out at the soft
+//! constraint's rate, at most `max_push_velocity`; the relax pass then solves
+//! without that bias, so the push-out moves the bodies but leaves no velocity
+//! behind: penetration is corrected without adding energy. The relax pass leaves
+//! separated points alone.
+
+use super::contact::ContactSolver;
+
+impl ContactSolver {
+    pub fn solve_normal(&mut self, relax: bool) {
+        let soft = self.softness;
+        let max_push = self.settings.max_push_velocity;
+        for ci in 0..self.constraints.len() {
+            let c = self.constraints[ci];
+            for k in c.start..c.start + c.len {
+                let p = self.points[k as usize];
+                let s = self.separation(&c, &p);
+                if relax && s > 0.0 {
+                    // After the drift a gap is the next substep's business: closing it
+                    // here would brake a body that has not arrived yet.
+                    continue;
+                }
+                let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+                    (s * self.inv_h, 1.0, 0.0)
+                } else if !relax {
+                    ((soft.bias_rate * s).max(-max_push), soft.mass_scale, soft.impulse_scale)
+                } else {
+                    (0.0, 1.0, 0.0)
+                };
+                let vn = self.normal_velocity(&c, &p);
+                let imp = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
+                let total = (p.normal_impulse + imp).max(0.0);
+                let delta = total - p.normal_impulse;
+                self.points[k as usize].normal_impulse = total;
+                if delta != 0.0 {
+                    self.apply_normal(&c, &p, delta);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,12 @@
+//! Constraint solvers: the impulse-based contact solver (sequential impulses on
+//! soft constraints with substeps and relaxation), restitution by impacts, Coulomb
+//! friction on a true cone, islands and sleeping.
+
+pub mod contact;
+pub mod friction;
+pub mod impacts;
+pub mod impulse;
+pub mod islands;
+pub mod soft;
+
+pub use contact::{ContactSolver, SolverSettings};

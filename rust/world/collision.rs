@@ -1,0 +1,227 @@
+//! The collision side of a world: colliders built from the scene, the decision
+//! whether any two of them can ever touch (if not, the world has no collision
+//! stage at all), and the per-step broad phase, narrow phase and CCD.
+
+use std::collections::HashMap;
+
+use super::scene::BodyDesc;
+use super::Settings;
+use crate::body::{BodyKind, Bodies};
+use crate::collide::broad_phase::{Aabb, HalfSpace, SweepAndPrune};
+use crate::collide::ccd::{self, Start};
+use crate::collide::narrow_phase::{supported, ContactReport, NarrowPhase, Prediction};
+use crate::collide::{Collider, Filter};
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::solve::islands::Islands;
+use crate::solve::ContactSolver;
+
+pub struct Collision {
+    pub colliders: Vec<Collider>,
+    finite: Vec<u32>,
+    infinite: Vec<u32>,
+    boxes: Vec<Aabb>,
+    sap: SweepAndPrune,
+    candidates: Vec<(u32, u32)>,
+    pub narrow: NarrowPhase,
+    pub solver: ContactSolver,
+    pub islands: Islands,
+    /// Colliders of bodies that asked for continuous collision detection, and
+    /// their bodies' poses before the drift.
+    pub ccd: Vec<u32>,
+    ccd_start: Vec<Start>,
+    /// Some pair that can touch may bounce (restitution > 0) / has friction.
+    pub bouncy: bool,
+    pub frictional: bool,
+    margin: f64,
+}
+
+fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
+    let (shape, pose) = (d.shape.as_ref()?, d.shape_pose);
+    let local = pose * shape.parry_pose;
+    let infinite = matches!(shape.kind, crate::body::shape::ShapeKind::Plane { .. });
+    let reach = if infinite {
+        f64::INFINITY
+    } else {
+        let a = shape.parry.compute_aabb(&local);
+        let corner = |k: usize| if a.mins[k].abs() > a.maxs[k].abs() { a.mins[k] } else { a.maxs[k] };
+        Vec3::new(corner(0), corner(1), corner(2)).norm()
+    };
+    Some(Collider {
+        body: i as u32,
+        shape: shape.parry.clone(),
+        local,
+        material: d.material,
+        filter: d.filter,
+        infinite,
+        reach,
+        ccd: d.ccd,
+    })
+}
+
+/// Whether some pair of colliders can ever touch: different bodies, filters that
+/// allow it, at least one of the two able to move. Checked over the distinct
+/// filters, not over all pairs.
+fn can_touch(colliders: &[Collider], kinds: &[BodyKind]) -> bool {
+    let mut by_filter: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
+    for c in colliders {
+        let e = by_filter.entry((c.filter.group, c.filter.mask)).or_default();
+        e.1 += 1;
+        if kinds[c.body as usize] != BodyKind::Fixed {
+            e.0 += 1;
+        }
+    }
+    let f = |k: &(u32, u32)| Filter { group: k.0, mask: k.1 };
+    by_filter.iter().any(|(ka, &(movable_a, total_a))| {
+        movable_a > 0
+            && by_filter.iter().any(|(kb, &(_, total_b))| {
+                f(ka).allows(&f(kb)) && (ka != kb || total_a >= 2) && total_b > 0
+            })
+    })
+}
+
+impl Collision {
+    pub fn new(descs: &[BodyDesc], bodies: &Bodies, settings: &Settings) -> Result<Option<Self>> {
+        let colliders: Vec<Collider> = descs.iter().enumerate().filter_map(|(i, d)| collider_of(i, d)).collect();
+        if !can_touch(&colliders, &bodies.kind) {
+            return Ok(None);
+        }
+        check_supported(&colliders, &bodies.kind)?;
+        let (infinite, finite): (Vec<u32>, Vec<u32>) = (0..colliders.len() as u32).partition(|&k| colliders[k as usize].infinite);
+        let ccd: Vec<u32> = (0..colliders.len() as u32).filter(|&k| colliders[k as usize].ccd).collect();
+        let frictional = colliders.iter().filter(|c| c.material.static_friction > 0.0).count() >= 2;
+        let bouncy = colliders.iter().any(|c| c.material.restitution > 0.0);
+        let n = bodies.len();
+        Ok(Some(Self {
+            boxes: vec![Aabb::default(); colliders.len()],
+            ccd_start: Vec::with_capacity(ccd.len()),
+            colliders,
+            finite,
+            infinite,
+            sap: SweepAndPrune::default(),
+            candidates: Vec::new(),
+            narrow: NarrowPhase::default(),
+            solver: ContactSolver::new(n, settings.solver),
+            islands: Islands::new(n),
+            ccd,
+            bouncy,
+            frictional,
+            margin: settings.solver.margin,
+        }))
+    }
+
+    /// Boxes of every finite collider (swept over the step for moving bodies) and
+    /// the candidate pairs.
+    pub fn broad_phase(&mut self, b: &Bodies, dt: f64) {
+        for &k in &self.finite {
+            let c = &self.colliders[k as usize];
+            let i = c.body as usize;
+            let mut a = Aabb::from_parry(&c.shape.compute_aabb(&c.pose(b))).loosened(self.margin);
+            if b.moving(i) {
+                let v = Vec3::from(b.linear_velocity[i]) * dt;
+                let w = Vec3::from(b.angular_velocity[i]).norm() * dt;
+                a = a.swept(v.into()).loosened(w * c.reach);
+            }
+            self.boxes[k as usize] = a;
+        }
+        self.candidates.clear();
+        let (cols, boxes) = (&self.colliders, &self.boxes);
+        let keep = |i: u32, j: u32| pair_allowed(cols, b, i, j);
+        self.sap.pairs(boxes, &self.finite, keep, &mut self.candidates);
+        for &h in &self.infinite {
+            let c = &cols[h as usize];
+            let pose = c.pose(b);
+            let Some(hs) = c.shape.as_halfspace() else { continue };
+            let n = pose.rotation * hs.normal.into_inner();
+            let half = HalfSpace { normal: n.into(), offset: n.dot(&pose.translation.vector) };
+            for &f in &self.finite {
+                if pair_allowed(cols, b, h, f) && half.touches(&boxes[f as usize], 0.0) {
+                    self.candidates.push((h.min(f), h.max(f)));
+                }
+            }
+        }
+        self.candidates.sort_unstable();
+        self.ccd_start.clear();
+        for &k in &self.ccd {
+            let i = cols[k as usize].body as usize;
+            self.ccd_start.push(Start { position: Vec3::from(b.position[i]), orientation: b.q(i) });
+        }
+    }
+
+    /// Manifolds of the candidates, bodies woken by touch, and the constraints of
+    /// this step. Returns whether a body woke.
+    pub fn narrow_phase(&mut self, b: &mut Bodies, dt: f64, h: f64) -> bool {
+        let pred = Prediction { margin: self.margin, dt };
+        let cols = &self.colliders;
+        self.narrow.update(cols, b, &self.candidates, &pred, |i, j| {
+            !b.moving(cols[i as usize].body as usize) && !b.moving(cols[j as usize].body as usize)
+        });
+        let mut woke = false;
+        for &(i, j) in &self.narrow.touching {
+            let (bi, bj) = (cols[i as usize].body as usize, cols[j as usize].body as usize);
+            if b.moving(bi) {
+                woke |= self.islands.wake(b, bj);
+            }
+            if b.moving(bj) {
+                woke |= self.islands.wake(b, bi);
+            }
+        }
+        self.solver.prepare(&self.narrow, cols, b, h);
+        woke
+    }
+
+    /// Sweeps every CCD body over its last drift and records its pose for the next.
+    pub fn ccd_stage(&mut self, b: &mut Bodies) {
+        for (slot, &k) in self.ccd.iter().enumerate() {
+            let i = self.colliders[k as usize].body as usize;
+            if b.awake(i) {
+                ccd::sweep(b, k as usize, &self.colliders, &self.boxes, &self.ccd_start[slot]);
+            }
+            self.ccd_start[slot] = Start { position: Vec3::from(b.position[i]), orientation: b.q(i) };
+        }
+    }
+
+    pub fn reports(&self) -> Vec<ContactReport> {
+        self.solver.reports()
+    }
+}
+
+/// Colliders `i` and `j` may touch now: different bodies, filters agree, and one
+/// of the two bodies moves.
+fn pair_allowed(cols: &[Collider], b: &Bodies, i: u32, j: u32) -> bool {
+    let (ci, cj) = (&cols[i as usize], &cols[j as usize]);
+    let (bi, bj) = (ci.body as usize, cj.body as usize);
+    bi != bj && ci.filter.allows(&cj.filter) && (b.moving(bi) || b.moving(bj)) && !(ci.infinite && cj.infinite)
+}
+
+/// Rejects at build time a pair of shapes that can touch but that parry cannot
+/// generate contacts for, naming two such bodies.
+fn check_supported(cols: &[Collider], kinds: &[BodyKind]) -> Result<()> {
+    let mut reps: HashMap<String, &Collider> = HashMap::new();
+    for c in cols {
+        reps.entry(format!("{:?}", c.shape.shape_type())).or_insert(c);
+    }
+    let types: Vec<&&Collider> = reps.values().collect();
+    for a in &types {
+        for bb in &types {
+            if supported(a, bb) {
+                continue;
+            }
+            let (ta, tb) = (a.shape.shape_type(), bb.shape.shape_type());
+            let clash = cols.iter().find_map(|x| {
+                let movable = kinds[x.body as usize] != BodyKind::Fixed;
+                (x.shape.shape_type() == ta && movable)
+                    .then(|| cols.iter().find(|y| y.body != x.body && y.shape.shape_type() == tb && x.filter.allows(&y.filter)))
+                    .flatten()
+                    .map(|y| (x.body, y.body))
+            });
+            if let Some((x, y)) = clash {
+                return Err(Error::shape(format!(
+                    "bodies {x} ({ta:?}) and {y} ({tb:?}) can touch, but parry has no contacts for that pair of shapes; \
+                     use convex hulls or compounds for moving meshes, or filter the pair out"
+                )));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,197 @@
+//! Stepping: the plan's stages run in order, each timed into the profile.
+
+use std::time::Instant;
+
+use super::pipeline::{Group, Stage, StageKind};
+use super::{validate, World};
+use crate::error::Result;
+use crate::integrate::kick::KickSources;
+use crate::integrate::{
+    drift, euler, free_rotation, implicit_gyro, kick, rk4, symplectic_euler, BodyLists, Gyroscopic, InertiaClass,
+    Rotation,
+};
+use crate::body::Bodies;
+use crate::math::{quat, Vec3};
+
+impl World {
+    /// Advances `n` steps. The state is checked first: if a body is invalid (NaN,
+    /// non-unit quaternion written through a view) nothing moves and the error
+    /// names the body.
+    pub fn step(&mut self, n: u64) -> Result<()> {
+        validate::check(&self.bodies)?;
+        validate::normalize(&mut self.bodies);
+        self.wake_on_user_input();
+        self.replan(false);
+        let src = self.kick_sources();
+        let h = self.settings.dt / self.substeps as f64;
+        for _ in 0..n {
+            // Indexing, not iterating: a stage may rebuild the plan (bodies waking
+            // in the narrow phase, falling asleep in the sleep stage).
+            for k in 0..self.plan.pre.len() {
+                self.timed(self.plan.pre[k], h, &src);
+            }
+            for _ in 0..self.substeps {
+                for k in 0..self.plan.sub.len() {
+                    self.timed(self.plan.sub[k], h, &src);
+                }
+            }
+            if let Some(c) = self.collision.as_mut() {
+                c.solver.finish(&mut c.narrow);
+            }
+            for k in 0..self.plan.post.len() {
+                self.timed(self.plan.post[k], h, &src);
+            }
+            self.steps += 1;
+        }
+        self.profile.count_steps(n);
+        if self.keep_derived {
+            self.bodies.update_derived();
+        }
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn timed(&mut self, stage: Stage, h: f64, src: &KickSources) {
+        if self.profile.enabled {
+            let t0 = Instant::now();
+            self.run(stage, h, src);
+            self.profile.add(stage.slot, t0);
+        } else {
+            self.run(stage, h, src);
+        }
+    }
+
+    fn run(&mut self, stage: Stage, h: f64, src: &KickSources) {
+        let hf = h * stage.frac;
+        let dt = self.settings.dt;
+        match stage.kind {
+            StageKind::Forces(g) => {
+                let list = std::mem::take(self.group_mut(g));
+                kick::kick(&mut self.bodies, &list, hf, src);
+                *self.group_mut(g) = list;
+            }
+            StageKind::Translate => drift::translate(&mut self.bodies, &self.lists.dynamic, hf),
+            StageKind::Rotate(class) => rotate(&mut self.bodies, &self.lists, class, self.rotation, hf),
+            StageKind::Rk4 { group, forces } => {
+                let none = KickSources { gravity: Vec3::zeros(), force: false, torque: false };
+                let list = std::mem::take(self.group_mut(group));
+                rk4::step(&mut self.bodies, &list, hf, if forces { src } else { &none });
+                *self.group_mut(group) = list;
+            }
+            StageKind::Gyroscopic(Gyroscopic::Explicit) => {
+                symplectic_euler::gyroscopic_explicit(&mut self.bodies, &self.lists.anisotropic_index, hf)
+            }
+            StageKind::Gyroscopic(Gyroscopic::Implicit) => {
+                implicit_gyro::gyroscopic_implicit(&mut self.bodies, &self.lists.anisotropic_index, hf)
+            }
+            StageKind::Kinematic => move_kinematic(&mut self.bodies, &self.kinematic, hf),
+            StageKind::BroadPhase => {
+                if let Some(c) = self.collision.as_mut() {
+                    c.broad_phase(&self.bodies, dt);
+                }
+            }
+            StageKind::NarrowPhase => self.narrow_phase(h),
+            StageKind::Gather { .. } => self.with_solver(|s, b| s.gather(b)),
+            StageKind::Scatter { .. } => self.with_solver(|s, b| s.scatter(b)),
+            StageKind::Impacts => self.with_solver(|s, b| s.impacts(b, h, src)),
+            StageKind::WarmStart => self.with_solver(|s, _| s.warm_start()),
+            StageKind::Friction { .. } => self.with_solver(|s, _| s.solve_friction()),
+            StageKind::Normal { relax } => self.with_solver(|s, _| s.solve_normal(relax)),
+            StageKind::Ccd => {
+                if let Some(c) = self.collision.as_mut() {
+                    c.ccd_stage(&mut self.bodies);
+                }
+            }
+            StageKind::Sleep => self.sleep(dt),
+        }
+    }
+
+    fn group_mut(&mut self, g: Group) -> &mut Vec<u32> {
+        match g {
+            Group::All => &mut self.lists.dynamic,
+            Group::Free => &mut self.free,
+            Group::Touching => &mut self.touching,
+        }
+    }
+
+    fn with_solver(&mut self, f: impl FnOnce(&mut crate::solve::ContactSolver, &mut Bodies)) {
+        if let Some(c) = self.collision.as_mut() {
+            f(&mut c.solver, &mut self.bodies);
+        }
+    }
+
+    /// Contacts of this step, then which awake bodies touch something.
+    fn narrow_phase(&mut self, h: f64) {
+        let dt = self.settings.dt;
+        let Some(c) = self.collision.as_mut() else { return };
+        if c.narrow_phase(&mut self.bodies, dt, h) {
+            self.relist();
+        }
+        let Some(c) = self.collision.as_ref() else { return };
+        self.touching.clear();
+        self.free.clear();
+        for &i in &self.lists.dynamic {
+            if c.solver.touching[i as usize] {
+                self.touching.push(i);
+            } else {
+                self.free.push(i);
+            }
+        }
+    }
+
+    fn sleep(&mut self, dt: f64) {
+        let Some(c) = self.collision.as_mut() else { return };
+        if c.islands.update(&mut self.bodies, &c.solver.constraints, dt, &self.settings.sleep) {
+            self.relist();
+        }
+    }
+
+    /// Sleeping bodies given a velocity or a force by the user wake up.
+    fn wake_on_user_input(&mut self) {
+        let Some(c) = self.collision.as_mut() else { return };
+        let b = &self.bodies;
+        let poked: Vec<usize> = (0..b.len())
+            .filter(|&i| {
+                b.sleeping[i]
+                    && (b.linear_velocity[i] != [0.0; 3]
+                        || b.angular_velocity[i] != [0.0; 3]
+                        || b.force[i] != [0.0; 3]
+                        || b.torque[i] != [0.0; 3])
+            })
+            .collect();
+        if poked.is_empty() {
+            return;
+        }
+        for i in poked {
+            c.islands.wake(&mut self.bodies, i);
+        }
+        self.relist();
+    }
+}
+
+/// Rotation of one class of bodies by the integrator's method.
+pub(crate) fn rotate(b: &mut Bodies, l: &BodyLists, class: InertiaClass, method: Rotation, h: f64) {
+    use InertiaClass::*;
+    match (method, class) {
+        (Rotation::Free, Isotropic) => free_rotation::rotate_isotropic(b, &l.isotropic, h),
+        (Rotation::Free, Symmetric) => free_rotation::rotate_symmetric(b, &l.symmetric, h),
+        (Rotation::Free, Asymmetric) => free_rotation::rotate_asymmetric(b, &l.asymmetric, h),
+        (Rotation::Euler, Isotropic) => euler::rotate_isotropic(b, &l.isotropic, h),
+        (Rotation::Euler, c) => euler::rotate(b, l.indices(c), h),
+        (Rotation::Exp, c) => symplectic_euler::rotate_exp(b, l.indices(c), h),
+    }
+}
+
+/// Kinematic bodies: `p += h v`, `q ← exp(h ω) q`.
+fn move_kinematic(b: &mut Bodies, list: &[u32], h: f64) {
+    for &i in list {
+        let i = i as usize;
+        let v = Vec3::from(b.linear_velocity[i]);
+        b.position[i] = (Vec3::from(b.position[i]) + h * v).into();
+        let w = Vec3::from(b.angular_velocity[i]);
+        if w != Vec3::zeros() {
+            let q = quat::exp(&(w * h)) * b.q(i);
+            b.orientation[i] = quat::to_xyzw(&(q / q.norm()));
+        }
+    }
+}

@@ -34,7 +34,9 @@ const TRIANGLE_TOL: f64 = 1e-9;
 impl MassProps {
     /// Checks mass and inertia, naming `what` in the error.
     pub fn validate(&self, what: &str) -> Result<()> {
-        if !(self.mass.is_finite() && self.mass > 0.0) {
+        // 1/mass must be finite too: a subnormal mass (< 2.2e-308 kg) has an infinite
+        // inverse, and the first force on the body made its state NaN.
+        if !(self.mass.is_finite() && self.mass > 0.0 && (1.0 / self.mass).is_finite()) {
             return Err(Error::input(format!("{what}: mass must be positive and finite, got {}", self.mass)));
         }
         if !self.com.iter().all(|x| x.is_finite()) {
@@ -65,7 +67,8 @@ pub fn validate_inertia(inertia: &Mat3, what: &str) -> Result<()> {
         return Err(Error::input(format!("{what}: inertia tensor must be symmetric")));
     }
     let m = principal_of(inertia).moments;
-    if m.iter().any(|&x| !(x > 0.0)) {
+    // Positive, with a finite inverse (a subnormal moment has none).
+    if m.iter().any(|&x| !(x > 0.0 && (1.0 / x).is_finite())) {
         return Err(Error::input(format!(
             "{what}: inertia must be positive definite, principal moments are {m:?}"
         )));
@@ -131,6 +134,13 @@ mod tests {
         let p = principal_of(&Mat3::from_diagonal(&Vec3::new(3.0, 1.0, 2.0)));
         assert_eq!(p.moments, [3.0, 1.0, 2.0]);
         assert_eq!(p.frame, Quat::identity());
+    }
+
+    #[test]
+    fn subnormal_mass_and_moments_are_rejected() {
+        let tiny = MassProps { mass: 1e-320, com: Vec3::zeros(), inertia: Mat3::identity() };
+        assert!(tiny.validate("body 0").is_err());
+        assert!(validate_inertia(&Mat3::from_diagonal_element(1e-320), "body 0").is_err());
     }
 
     #[test]

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion};
+use parry3d_f64::mass_properties::MassProperties;
 use parry3d_f64::shape::SharedShape;
 
 use super::mass::MassProps;
@@ -103,13 +104,16 @@ impl Shape {
         finite3("Plane normal", normal)?;
         crate::error::finite("Plane offset", offset)?;
         let n = Vec3::from(normal);
-        let len = n.norm();
+        // Scaled by its largest component first, so that |n|² cannot overflow (a normal
+        // of (1e300, 1e300, 0) used to become (0, 0, 0)).
+        let big = n.amax();
+        let len = big * (n / big).norm();
         if !(len > 1e-12) {
             return Err(Error::shape(format!("Plane normal must be non-zero, got {normal:?}")));
         }
-        let unit = Unit::new_normalize(n);
+        let unit = Unit::new_normalize(n / big);
         let pose = Isometry3::from_parts(Translation3::from(unit.into_inner() * offset), UnitQuaternion::identity());
-        let kind = ShapeKind::Plane { normal: (n / len).into(), offset };
+        let kind = ShapeKind::Plane { normal: unit.into_inner().into(), offset };
         Ok(Self::new(kind, SharedShape::halfspace(unit), pose))
     }
 
@@ -119,10 +123,10 @@ impl Shape {
             return Err(Error::shape(format!("ConvexHull needs at least 4 points, got {}", points.len())));
         }
         check_spans_volume("ConvexHull points", &points)?;
-        let pts: Vec<Point3<f64>> = points.iter().map(|p| Point3::from(*p)).collect();
-        // parry's hull can panic on inputs that are degenerate to round-off; the
-        // check above rejects those, this guard turns any that slip by into an error.
-        let hull = std::panic::catch_unwind(|| SharedShape::convex_hull(&pts)).ok().flatten();
+        let (vertices, triangles) = hull_mesh(&points)?;
+        // parry can panic on inputs that are degenerate to round-off; the check above
+        // rejects those, this guard turns any that slip by into an error.
+        let hull = std::panic::catch_unwind(|| SharedShape::convex_mesh(vertices, &triangles)).ok().flatten();
         let parry = hull.ok_or_else(|| Error::shape("ConvexHull: parry could not build a hull of these points"))?;
         let kind = ShapeKind::ConvexHull { points: Arc::new(points) };
         Ok(Self::new(kind, parry, Isometry3::identity()))
@@ -187,14 +191,24 @@ impl Shape {
     /// Mass properties for a uniform density (kg/m³), in this shape's frame.
     pub fn mass_properties(&self, density: f64) -> Result<MassProps> {
         positive("density", density)?;
-        match &self.kind {
+        let mp = match &self.kind {
             ShapeKind::Plane { .. } => {
                 return Err(Error::input("a Plane has no finite mass: add it with fixed=True"));
             }
-            ShapeKind::TriMesh { vertices, triangles } => check_closed_outward(vertices, triangles)?,
-            _ => {}
-        }
-        let mp = self.parry.mass_properties(density).transform_by(&self.parry_pose);
+            ShapeKind::TriMesh { vertices, triangles } => {
+                check_closed_outward(vertices, triangles)?;
+                self.parry.mass_properties(density)
+            }
+            // From the hull's own triangles: parry's polyhedron merges nearly coplanar
+            // faces (normals within ~1e-4 rad) and fans them, dropping the vertices
+            // inside a merged face, which on a thin hull is a large part of its volume.
+            ShapeKind::ConvexHull { points } => {
+                let (vertices, triangles) = hull_mesh(points)?;
+                MassProperties::from_trimesh(density, &vertices, &triangles)
+            }
+            _ => self.parry.mass_properties(density),
+        };
+        let mp = mp.transform_by(&self.parry_pose);
         let props = MassProps {
             mass: mp.mass(),
             com: mp.local_com.coords,
@@ -223,8 +237,8 @@ fn check_points(what: &str, points: &[[f64; 3]]) -> Result<()> {
     Ok(())
 }
 
-/// Rejects point sets that are (to round-off) coplanar, collinear or a single point.
-fn check_spans_volume(what: &str, points: &[[f64; 3]]) -> Result<()> {
+/// Mean and (unnormalised) covariance of a point set.
+fn spread(points: &[[f64; 3]]) -> (Vec3, Mat3) {
     let n = points.len() as f64;
     let mean = points.iter().fold(Vec3::zeros(), |a, p| a + Vec3::from(*p)) / n;
     let mut cov = Mat3::zeros();
@@ -232,6 +246,40 @@ fn check_spans_volume(what: &str, points: &[[f64; 3]]) -> Result<()> {
         let r = Vec3::from(*p) - mean;
         cov += r * r.transpose();
     }
+    (mean, cov)
+}
+
+/// The convex hull of `points` (checked by [`check_spans_volume`]) as an outward
+/// triangle mesh over the given points.
+///
+/// parry's quickhull takes a cloud as flat when a covariance eigenvalue of the cloud
+/// scaled to a unit box is below 1e-7: a plate thinner than about 1/1000 of its width
+/// came back as a double-sided polygon, whose mass was zero or, once rotated, a
+/// fraction of the true one. A convex hull is invariant under affine maps, so it is
+/// computed on the whitened cloud (unit spread along every principal axis) and its
+/// vertices mapped back to the points they came from, exactly.
+fn hull_mesh(points: &[[f64; 3]]) -> Result<(Vec<Point3<f64>>, Vec<[u32; 3]>)> {
+    let (mean, cov) = spread(points);
+    let eig = cov.symmetric_eigen();
+    let unit = Vec3::from_fn(|k, _| 1.0 / eig.eigenvalues[k].sqrt());
+    let whiten = Mat3::from_diagonal(&unit) * eig.eigenvectors.transpose();
+    let key = |p: &Point3<f64>| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let white: Vec<Point3<f64>> = points.iter().map(|p| Point3::from(whiten * (Vec3::from(*p) - mean))).collect();
+    let source: HashMap<[u64; 3], usize> = white.iter().enumerate().map(|(i, w)| (key(w), i)).collect();
+    let failed = || Error::shape("ConvexHull: parry could not build a hull of these points");
+    let hull = std::panic::catch_unwind(|| parry3d_f64::transformation::try_convex_hull(&white));
+    let (vertices, triangles) = hull.ok().and_then(|h| h.ok()).ok_or_else(failed)?;
+    let vertices = vertices
+        .iter()
+        .map(|w| source.get(&key(w)).map(|&i| Point3::from(points[i])))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(failed)?;
+    Ok((vertices, triangles))
+}
+
+/// Rejects point sets that are (to round-off) coplanar, collinear or a single point.
+fn check_spans_volume(what: &str, points: &[[f64; 3]]) -> Result<()> {
+    let (_, cov) = spread(points);
     let ev = cov.symmetric_eigenvalues();
     let (lo, hi) = (ev.min(), ev.max());
     if !(hi > 0.0) || lo <= 1e-18 * hi {
@@ -290,6 +338,30 @@ mod tests {
         let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let s = Shape::trimesh(v, vec![[0, 1, 2]]).unwrap();
         assert!(s.mass_properties(1.0).is_err());
+    }
+
+    #[test]
+    fn thin_rotated_plate_hull_keeps_its_mass() {
+        // A 2 x 1.4 x 0.002 m plate, turned off the axes: parry alone took it for flat.
+        let (h, r) = ([1.0, 0.7, 1e-3], crate::math::quat::exp(&Vec3::new(0.3, -0.5, 0.8)));
+        let mut pts = Vec::new();
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                for sz in [-1.0, 1.0] {
+                    pts.push(crate::math::quat::rotate(&r, &Vec3::new(sx * h[0], sy * h[1], sz * h[2])).into());
+                }
+            }
+        }
+        let mp = Shape::convex_hull(pts).unwrap().mass_properties(1.0).unwrap();
+        let volume = 8.0 * h[0] * h[1] * h[2];
+        assert!((mp.mass - volume).abs() < 1e-12 * volume, "{} vs {volume}", mp.mass);
+    }
+
+    #[test]
+    fn huge_plane_normal_is_normalised() {
+        let s = Shape::plane([1e300, 1e300, 0.0], 0.0).unwrap();
+        let ShapeKind::Plane { normal, .. } = s.kind else { unreachable!() };
+        assert!((normal[0] - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-15, "{normal:?}");
     }
 
     #[test]

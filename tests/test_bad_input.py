@@ -183,12 +183,6 @@ def test_add_body_rejects_bad_input_and_leaves_the_scene_unchanged(case):
     assert_scene_unchanged(scene)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug in rust/world/scene.rs mass_of: mass= (with a shape, or with inertia=) is only "
-    "checked > 0 and the result is never validated, so a subnormal mass (1/m = inf) is accepted "
-    "and the first force or gravity makes the state NaN",
-)
 @pytest.mark.parametrize("kwargs", [dict(shape=SPHERE), dict(inertia=(1.0, 1.0, 1.0))], ids=["shape", "inertia"])
 def test_add_body_rejects_a_subnormal_mass(kwargs):
     scene = base_scene()
@@ -196,11 +190,6 @@ def test_add_body_rejects_a_subnormal_mass(kwargs):
     assert_scene_unchanged(scene)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug in rust/world/scene.rs unit_quaternion: |q|² overflows for components ~1e200, "
-    "q / inf = (0, 0, 0, 0) is stored and the world's first step raises StateError",
-)
 def test_add_body_normalises_a_huge_quaternion():
     scene = rr.Scene(gravity=(0.0, 0.0, 0.0))
     scene.add_body(SPHERE, density=1.0, orientation=(1e200, 1e200, 0.0, 0.0))
@@ -358,11 +347,6 @@ def test_build_rejects_bad_settings_and_leaves_the_scene_unchanged(case):
     assert_scene_unchanged(scene)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug in rust/py/scene.rs: substeps is a u32 argument, so -1 raises OverflowError "
-    "(not a ValueError/TypeError as DESIGN.md requires)",
-)
 def test_negative_substeps_raise_a_value_error():
     check_raises(lambda: base_scene().build(dt=DT, substeps=-1), ValueError, ["substeps"])
 
@@ -410,11 +394,6 @@ def test_world_calls_reject_bad_input_and_leave_the_world_unchanged(case):
     assert world.stages == stages  # in particular no "forces" stage from a refused force
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug in rust/py/world.rs: body is a usize argument, so a negative index raises "
-    "OverflowError (not ValueError/TypeError as DESIGN.md requires)",
-)
 @pytest.mark.parametrize("call", ["apply_force", "apply_torque"])
 def test_negative_body_index_raises_a_value_error(call):
     world = stepped_world()
@@ -423,11 +402,6 @@ def test_negative_body_index_raises_a_value_error(call):
     assert snapshot(world) == before
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug in rust/py/world.rs: step's n is a u64 argument, so step(-1) raises "
-    "OverflowError (not ValueError/TypeError as DESIGN.md requires)",
-)
 def test_negative_step_count_raises_a_value_error():
     world = stepped_world()
     check_raises(lambda: world.step(-1), ValueError, ["n"])

@@ -30,11 +30,12 @@ BOX = rr.Box((0.05, 0.2, 0.45))  # asymmetric
 
 
 def world_of(*shapes, gravity=ZERO_G, integrator="strang", fixed=()):
+    """Bodies whose filters exclude every pair: no collision stage, only integration."""
     scene = rr.Scene(gravity=gravity)
     for s in shapes:
-        scene.add_body(s, density=1000.0, angular_velocity=(0.3, -0.2, 0.5))
+        scene.add_body(s, density=1000.0, angular_velocity=(0.3, -0.2, 0.5), collision_mask=0)
     for s in fixed:
-        scene.add_body(s, fixed=True)
+        scene.add_body(s, fixed=True, collision_mask=0)
     return scene.build(dt=DT, integrator=integrator)
 
 

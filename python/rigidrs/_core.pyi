@@ -12,6 +12,7 @@ __all__ = [
     "Bodies",
     "Box",
     "Capsule",
+    "Compound",
     "Cone",
     "ConvexHull",
     "Cylinder",
@@ -118,6 +119,14 @@ class Plane(Shape):
     def __new__(cls, normal: ArrayLike | None = None, offset: float = 0.0) -> Plane: ...
 
 @final
+class Compound(Shape):
+    """A union of convex parts: ``parts`` is a sequence of ``(shape, position)`` or
+    ``(shape, position, orientation)`` in this shape's frame (m; x, y, z, w). Parts
+    may not be meshes, planes or compounds."""
+
+    def __new__(cls, parts: Any) -> Compound: ...
+
+@final
 class MassProperties:
     """Mass, centre of mass and inertia of a body, and their principal form."""
 
@@ -166,6 +175,13 @@ class Scene:
         linear_velocity: ArrayLike | None = None,
         angular_velocity: ArrayLike | None = None,
         fixed: bool = False,
+        kinematic: bool = False,
+        friction: float = 0.5,
+        static_friction: float | None = None,
+        restitution: float = 0.0,
+        ccd: bool = False,
+        collision_group: int = 1,
+        collision_mask: int = 4294967295,
     ) -> int:
         """Adds a body; returns its index.
 
@@ -175,17 +191,53 @@ class Scene:
         and ``orientation`` (x, y, z, w) place the shape's (or the mass properties')
         frame, default origin and identity; the body's state is its centre of mass
         and principal frame. ``linear_velocity`` (m/s, of the centre of mass) and
-        ``angular_velocity`` (rad/s), world frame, default 0. ``fixed`` bodies never move.
+        ``angular_velocity`` (rad/s), world frame, default 0. ``fixed`` bodies never move;
+        ``kinematic`` bodies move with the velocities you give them and have infinite mass.
+
+        Contact material of the shape: ``friction`` μk (default 0.5), ``static_friction``
+        μs ≥ μk (default μk), ``restitution`` e in [0, 1] (default 0). Two materials
+        combine by the geometric mean of friction and the maximum of restitution.
+        ``ccd``: continuous collision detection for a fast body. Two shapes may touch iff
+        ``group_a & mask_b`` and ``group_b & mask_a`` are both non-zero
+        (``collision_group`` default 1, ``collision_mask`` default all bits).
         """
-    def build(self, dt: float, integrator: str = "strang", substeps: int = 1) -> World:
-        """Compiles the scene: ``dt`` (s) per step, ``integrator`` from ``INTEGRATORS``,
-        ``substeps`` per step."""
+    def build(
+        self,
+        dt: float,
+        integrator: str = "strang",
+        substeps: int | None = None,
+        iterations: int = 1,
+        *,
+        sleep: bool = True,
+        restitution_threshold: float = 1.0,
+        margin: float = 0.005,
+        contact_hertz: float = 30.0,
+        contact_damping_ratio: float = 10.0,
+        max_push_velocity: float = 3.0,
+        sleep_linear: float = 0.05,
+        sleep_angular: float = 0.05,
+        sleep_time: float = 0.5,
+    ) -> World:
+        """Compiles the scene.
+
+        ``dt`` (s) per step; ``integrator`` from ``INTEGRATORS`` (default "strang");
+        ``substeps`` per step (default: 1 without contacts, 4 with them); ``iterations``
+        contact-solver iterations per substep (default 1). Contacts: ``restitution_threshold``
+        (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``margin``
+        (m, contacts are predicted this far ahead, default 0.005), ``contact_hertz`` (Hz,
+        contact stiffness, default 30), ``contact_damping_ratio`` (default 10),
+        ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
+        ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
+        body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05)."""
 
 @final
 class Bodies:
     """NumPy views of a world's bodies; each view keeps the world alive."""
 
     def __len__(self) -> int: ...
+    @property
+    def sleeping(self) -> npt.NDArray[np.bool_]:
+        """(N,) whether each body is asleep; read-only."""
     @property
     def position(self) -> _F64:
         """(N, 3) centre of mass, world (m); writable."""
@@ -269,3 +321,11 @@ class World:
         """Adds ``torque`` (3,) (N·m) to ``body``; persists until cleared."""
     def clear_forces(self) -> None:
         """Zeroes every applied force and torque."""
+    def contacts(self) -> dict[str, Any]:
+        """This step's contact points (K of them): ``body_a``, ``body_b`` (K,) int64;
+        ``point`` (K, 3) world (m); ``normal`` (K, 3) from a to b; ``depth`` (K,)
+        penetration (m; negative: predicted, not yet touching); ``normal_impulse`` (K,)
+        and ``friction_impulse`` (K, 3) over the step (N·s)."""
+    @property
+    def substeps(self) -> int:
+        """Substeps per step."""

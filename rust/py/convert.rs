@@ -76,3 +76,9 @@ pub fn triangles(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[u32; 3]>> 
         })
         .collect()
 }
+
+/// A non-negative integer argument (a body index, a count), as a clear
+/// `ValueError` when negative instead of an `OverflowError`.
+pub fn non_negative_int(x: i64, name: &str) -> PyResult<u64> {
+    u64::try_from(x).map_err(|_| PyValueError::new_err(format!("{name} must be a non-negative integer, got {x}")))
+}

@@ -55,7 +55,7 @@ impl PyScene {
     #[pyo3(signature = (shape=None, *, density=None, mass=None, inertia=None, mass_properties=None,
                         position=None, orientation=None, linear_velocity=None, angular_velocity=None,
                         fixed=false, kinematic=false, friction=0.5, static_friction=None, restitution=0.0,
-                        ccd=false, collision_group=1, collision_mask=u32::MAX))]
+                        ccd=false, collision_group=1, collision_mask=4294967295))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -121,8 +121,8 @@ impl PyScene {
         &self,
         dt: f64,
         integrator: &str,
-        substeps: Option<u32>,
-        iterations: u32,
+        substeps: Option<i64>,
+        iterations: i64,
         sleep: bool,
         restitution_threshold: f64,
         margin: f64,
@@ -135,8 +135,11 @@ impl PyScene {
     ) -> PyResult<PyWorld> {
         let mut s = Settings::new(dt);
         s.integrator = Integrator::from_name(integrator).py_err()?;
-        s.substeps = substeps;
-        s.iterations = iterations;
+        let small = |x: i64, name: &str| -> PyResult<u32> {
+            u32::try_from(x).map_err(|_| PyValueError::new_err(format!("{name} must be an integer in [1, 2^32), got {x}")))
+        };
+        s.substeps = substeps.map(|n| small(n, "substeps")).transpose()?;
+        s.iterations = small(iterations, "iterations")?;
         s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, margin };
         s.sleep = SleepSettings { enabled: sleep, linear: sleep_linear, angular: sleep_angular, time: sleep_time };
         Ok(PyWorld::new(self.inner.build(&s).py_err()?))

@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::convert::vec3;
+use super::convert::{non_negative_int, vec3};
 use super::errors::{IntoPy, RigidError};
 use super::views::PyBodies;
 use crate::collide::narrow_phase::ContactReport;
@@ -33,7 +33,8 @@ impl PyWorld {
     /// first; an invalid body (NaN, non-unit quaternion) raises `StateError` naming
     /// it, and nothing moves.
     #[pyo3(signature = (n=1))]
-    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+    fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+        let n = non_negative_int(n, "n")?;
         let w = &mut self.inner;
         let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.step(n))));
         match r {
@@ -130,14 +131,16 @@ impl PyWorld {
     /// the torque (point − p) × force at the body's current position. Persists
     /// until changed or `clear_forces()`.
     #[pyo3(signature = (body, force, point=None))]
-    fn apply_force(&mut self, body: usize, force: &Bound<'_, PyAny>, point: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    fn apply_force(&mut self, body: i64, force: &Bound<'_, PyAny>, point: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let body = non_negative_int(body, "body")? as usize;
         let f = vec3(force, "force")?;
         let p = point.map(|p| vec3(p, "point")).transpose()?;
         self.inner.apply_force(body, f, p).py_err()
     }
 
     /// Adds `torque` (3,) (N·m, world) to body `body`; persists until cleared.
-    fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_torque(&mut self, body: i64, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+        let body = non_negative_int(body, "body")? as usize;
         let t = vec3(torque, "torque")?;
         self.inner.apply_torque(body, t).py_err()
     }

@@ -136,7 +136,9 @@ fn unit_quaternion(q: [f64; 4]) -> Result<Quat> {
     if !q.iter().all(|x| x.is_finite()) {
         return Err(Error::input(format!("orientation must be finite, got {q:?}")));
     }
-    let qq = quat::from_xyzw(q);
+    // Scaled by the largest component first: |q|² of (1e200, 1e200, 0, 0) overflows.
+    let scale = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let qq = if scale > 0.0 { quat::from_xyzw(q.map(|x| x / scale)) } else { quat::from_xyzw(q) };
     let n = qq.norm();
     if !(n > 1e-12) {
         return Err(Error::input(format!("orientation must be a non-zero quaternion (x, y, z, w), got {q:?}")));
@@ -159,6 +161,12 @@ fn mass_of(spec: &BodySpec) -> Result<MassProps> {
     if sources.len() > 1 {
         return Err(Error::input(format!("give only one source of mass, got {}", sources.join(" and "))));
     }
+    let props = mass_from_sources(spec)?;
+    props.validate("mass")?;
+    Ok(props)
+}
+
+fn mass_from_sources(spec: &BodySpec) -> Result<MassProps> {
     if let Some(mp) = &spec.mass_properties {
         mp.validate("mass_properties")?;
         return Ok(mp.clone());

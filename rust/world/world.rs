@@ -190,9 +190,11 @@ impl World {
         if i >= n {
             return Err(Error::input(format!("body index {i} is out of range: the world has {n} bodies")));
         }
-        if self.bodies.kind[i] != BodyKind::Dynamic {
-            return Err(Error::input(format!("body {i} is not dynamic: forces on it would have no effect")));
-        }
-        Ok(())
+        let kind = match self.bodies.kind[i] {
+            BodyKind::Dynamic => return Ok(()),
+            BodyKind::Fixed => "fixed",
+            BodyKind::Kinematic => "kinematic",
+        };
+        Err(Error::input(format!("body {i} is {kind}: forces on it would have no effect")))
     }
 }

@@ -87,6 +87,11 @@ pub struct Point {
     pub rn2: Vec3,
     pub irn1: Vec3,
     pub irn2: Vec3,
+    /// `r × t` and `I⁻¹ (r × t)` of each body, for `t1` and `t2`.
+    pub rt1: [Vec3; 2],
+    pub rt2: [Vec3; 2],
+    pub irt1: [Vec3; 2],
+    pub irt2: [Vec3; 2],
     /// Separation at the step start minus `n·(r2 − r1)` (m).
     pub base_separation: f64,
     /// Separation at the step start (m); negative when penetrating.
@@ -273,12 +278,16 @@ impl ContactSolver {
         p.irn2 = a2.inv_i * p.rn2;
         let kn = m1 + m2 + p.rn1.dot(&p.irn1) + p.rn2.dot(&p.irn2);
         p.normal_mass = if kn > 0.0 { 1.0 / kn } else { 0.0 };
-        let k = |a: &Vec3, c: &Vec3| {
-            let (ra1, ra2) = (p.r1.cross(a), p.r2.cross(a));
-            let (rc1, rc2) = (p.r1.cross(c), p.r2.cross(c));
-            (m1 + m2) * a.dot(c) + ra1.dot(&(a1.inv_i * rc1)) + ra2.dot(&(a2.inv_i * rc2))
+        for (a, t) in [t1, t2].into_iter().enumerate() {
+            p.rt1[a] = p.r1.cross(t);
+            p.rt2[a] = p.r2.cross(t);
+            p.irt1[a] = a1.inv_i * p.rt1[a];
+            p.irt2[a] = a2.inv_i * p.rt2[a];
+        }
+        let k = |a: usize, c: usize, ta: &Vec3, tc: &Vec3| {
+            (m1 + m2) * ta.dot(tc) + p.rt1[a].dot(&p.irt1[c]) + p.rt2[a].dot(&p.irt2[c])
         };
-        let (a, bb, c) = (k(t1, t1), k(t1, t2), k(t2, t2));
+        let (a, bb, c) = (k(0, 0, t1, t1), k(0, 1, t1, t2), k(1, 1, t2, t2));
         let det = a * c - bb * bb;
         p.tangent_mass = if det > 0.0 { [c / det, -bb / det, a / det] } else { [0.0; 3] };
     }
@@ -327,6 +336,29 @@ impl ContactSolver {
         a.w += p.irn2 * j;
     }
 
+    /// Applies a tangential impulse `d` (N·s, in the `t1, t2` basis) at the point.
+    #[inline(always)]
+    pub fn apply_tangent(&mut self, c: &Constraint, p: &Point, d: [f64; 2]) {
+        let imp = c.t1 * d[0] + c.t2 * d[1];
+        let a = &mut self.bodies[c.s1 as usize];
+        a.v -= imp * a.inv_m;
+        a.w -= p.irt1[0] * d[0] + p.irt1[1] * d[1];
+        let a = &mut self.bodies[c.s2 as usize];
+        a.v += imp * a.inv_m;
+        a.w += p.irt2[0] * d[0] + p.irt2[1] * d[1];
+    }
+
+    /// Tangential components of the relative velocity (m/s).
+    #[inline(always)]
+    pub fn tangent_velocity(&self, c: &Constraint, p: &Point) -> [f64; 2] {
+        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
+        let dv = a2.v - a1.v;
+        [
+            c.t1.dot(&dv) + a2.w.dot(&p.rt2[0]) - a1.w.dot(&p.rt1[0]),
+            c.t2.dot(&dv) + a2.w.dot(&p.rt2[1]) - a1.w.dot(&p.rt1[1]),
+        ]
+    }
+
     /// Velocity of body 2's anchor relative to body 1's (m/s).
     #[inline(always)]
     pub fn relative_velocity(&self, c: &Constraint, p: &Point) -> Vec3 {
@@ -366,9 +398,11 @@ impl ContactSolver {
                     p.total_tangent[1] += p.tangent_impulse[1];
                 }
                 let p = *p;
-                let imp = c.normal * p.normal_impulse + c.t1 * p.tangent_impulse[0] + c.t2 * p.tangent_impulse[1];
-                if imp != Vec3::zeros() {
-                    self.apply(&c, &p, &imp);
+                if p.normal_impulse != 0.0 {
+                    self.apply_normal(&c, &p, p.normal_impulse);
+                }
+                if p.tangent_impulse != [0.0; 2] {
+                    self.apply_tangent(&c, &p, p.tangent_impulse);
                 }
             }
         }

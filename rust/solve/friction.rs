@@ -32,12 +32,11 @@ impl ContactSolver {
                 if p.normal_impulse == 0.0 && p.tangent_impulse == [0.0, 0.0] {
                     continue;
                 }
-                let dv = self.relative_velocity(&c, &p);
-                let l = cone(&c, &p, [c.t1.dot(&dv), c.t2.dot(&dv)], p.tangent_impulse, p.normal_impulse);
+                let l = cone(&c, &p, self.tangent_velocity(&c, &p), p.tangent_impulse, p.normal_impulse);
                 let d = [l[0] - p.tangent_impulse[0], l[1] - p.tangent_impulse[1]];
                 self.points[k as usize].tangent_impulse = l;
                 if d != [0.0, 0.0] {
-                    self.apply(&c, &p, &(c.t1 * d[0] + c.t2 * d[1]));
+                    self.apply_tangent(&c, &p, d);
                 }
             }
         }

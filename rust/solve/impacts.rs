@@ -101,9 +101,8 @@ impl ContactSolver {
             return [0.0; 2];
         }
         let p = self.points[k];
-        let dv = self.relative_velocity(c, &p);
-        let l = cone(c, &p, [c.t1.dot(&dv), c.t2.dot(&dv)], [0.0; 2], jn);
-        self.apply(c, &p, &(c.t1 * l[0] + c.t2 * l[1]));
+        let l = cone(c, &p, self.tangent_velocity(c, &p), [0.0; 2], jn);
+        self.apply_tangent(c, &p, l);
         l
     }
 

@@ -25,7 +25,7 @@ fn load(b: &Bodies, i: usize) -> (Quat, Vec3) {
 /// Writes the orientation back (renormalised) and the world angular velocity.
 #[inline(always)]
 fn store(b: &mut Bodies, i: usize, q: Quat, lb: &Vec3) {
-    let q = q / q.norm();
+    let q = quat::normalize(&q);
     let w = quat::rotate(&q, &lb.component_mul(&Vec3::from(b.inv_inertia[i])));
     b.orientation[i] = quat::to_xyzw(&q);
     b.angular_velocity[i] = w.into();
@@ -59,7 +59,7 @@ pub fn rotate_isotropic(b: &mut Bodies, list: &[u32], h: f64) {
             continue;
         }
         let q = quat::exp(&(w * h)) * b.q(i);
-        b.orientation[i] = quat::to_xyzw(&(q / q.norm()));
+        b.orientation[i] = quat::to_xyzw(&quat::normalize(&q));
     }
 }
 

@@ -35,7 +35,7 @@ pub fn step(b: &mut Bodies, list: &[u32], h: f64, src: &KickSources) {
         let k3 = qdot(&(q + k2 * (0.5 * h)), &l_half, &inv_i);
         let k4 = qdot(&(q + k3 * h), &l1, &inv_i);
         let qn = q + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
-        let qn = qn / qn.norm();
+        let qn = quat::normalize(&qn);
         b.orientation[i] = quat::to_xyzw(&qn);
         let w = quat::rotate(&qn, &quat::rotate_inv(&qn, &l1).component_mul(&inv_i));
         b.angular_velocity[i] = w.into();

@@ -76,6 +76,79 @@ impl Default for SolverBody {
     }
 }
 
+/// The two bodies of a constraint, held in registers while its points are solved.
+pub struct Pair {
+    pub v1: Vec3,
+    pub w1: Vec3,
+    pub v2: Vec3,
+    pub w2: Vec3,
+    m1: f64,
+    m2: f64,
+    dp1: Vec3,
+    dp2: Vec3,
+    dq1: Quat,
+    dq2: Quat,
+}
+
+impl Pair {
+    #[inline(always)]
+    pub fn load(bodies: &[SolverBody], c: &Constraint) -> Self {
+        let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+        Self { v1: a.v, w1: a.w, v2: b.v, w2: b.w, m1: a.inv_m, m2: b.inv_m, dp1: a.dp, dp2: b.dp, dq1: a.dq, dq2: b.dq }
+    }
+
+    /// Writes the velocities back (the fixed entry 0 receives zeros unchanged).
+    #[inline(always)]
+    pub fn store(&self, bodies: &mut [SolverBody], c: &Constraint) {
+        let a = &mut bodies[c.s1 as usize];
+        a.v = self.v1;
+        a.w = self.w1;
+        let b = &mut bodies[c.s2 as usize];
+        b.v = self.v2;
+        b.w = self.w2;
+    }
+
+    /// Current separation: the step-start separation plus how far the anchors
+    /// have moved apart along the normal since (m).
+    #[inline(always)]
+    pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
+        let d2 = self.dp2 + if c.s2 == 0 { p.r2 } else { rotate(&self.dq2, &p.r2) };
+        let d1 = self.dp1 + if c.s1 == 0 { p.r1 } else { rotate(&self.dq1, &p.r1) };
+        p.base_separation + c.normal.dot(&(d2 - d1))
+    }
+
+    #[inline(always)]
+    pub fn normal_velocity(&self, c: &Constraint, p: &Point) -> f64 {
+        c.normal.dot(&(self.v2 - self.v1)) + self.w2.dot(&p.rn2) - self.w1.dot(&p.rn1)
+    }
+
+    #[inline(always)]
+    pub fn tangent_velocity(&self, c: &Constraint, p: &Point) -> [f64; 2] {
+        let dv = self.v2 - self.v1;
+        [
+            c.t1.dot(&dv) + self.w2.dot(&p.rt2[0]) - self.w1.dot(&p.rt1[0]),
+            c.t2.dot(&dv) + self.w2.dot(&p.rt2[1]) - self.w1.dot(&p.rt1[1]),
+        ]
+    }
+
+    #[inline(always)]
+    pub fn apply_normal(&mut self, c: &Constraint, p: &Point, j: f64) {
+        self.v1 -= c.normal * (j * self.m1);
+        self.w1 -= p.irn1 * j;
+        self.v2 += c.normal * (j * self.m2);
+        self.w2 += p.irn2 * j;
+    }
+
+    #[inline(always)]
+    pub fn apply_tangent(&mut self, c: &Constraint, p: &Point, d: [f64; 2]) {
+        let imp = c.t1 * d[0] + c.t2 * d[1];
+        self.v1 -= imp * self.m1;
+        self.w1 -= p.irt1[0] * d[0] + p.irt1[1] * d[1];
+        self.v2 += imp * self.m2;
+        self.w2 += p.irt2[0] * d[0] + p.irt2[1] * d[1];
+    }
+}
+
 /// One contact point.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Point {

@@ -4,7 +4,7 @@
 //! beyond, it slides with `|λt| = μk λn` along the direction the block solve gave.
 //! No pyramid: the friction force has no preferred axes.
 
-use super::contact::{Constraint, ContactSolver, Point};
+use super::contact::{Constraint, ContactSolver, Pair, Point};
 
 /// The tangential impulse `λ + Δλ` (with `Δλ = −K_t⁻¹ v_t`) limited to the cone of
 /// a normal impulse `jn`.
@@ -22,23 +22,21 @@ pub fn cone(c: &Constraint, p: &Point, vt: [f64; 2], lambda: [f64; 2], jn: f64) 
 
 impl ContactSolver {
     pub fn solve_friction(&mut self) {
-        for ci in 0..self.constraints.len() {
-            let c = self.constraints[ci];
+        for c in &self.constraints {
             if c.static_friction == 0.0 {
                 continue;
             }
-            for k in c.start..c.start + c.len {
-                let p = self.points[k as usize];
+            let mut pair = Pair::load(&self.bodies, c);
+            for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 if p.normal_impulse == 0.0 && p.tangent_impulse == [0.0, 0.0] {
                     continue;
                 }
-                let l = cone(&c, &p, self.tangent_velocity(&c, &p), p.tangent_impulse, p.normal_impulse);
+                let l = cone(c, p, pair.tangent_velocity(c, p), p.tangent_impulse, p.normal_impulse);
                 let d = [l[0] - p.tangent_impulse[0], l[1] - p.tangent_impulse[1]];
-                self.points[k as usize].tangent_impulse = l;
-                if d != [0.0, 0.0] {
-                    self.apply_tangent(&c, &p, d);
-                }
+                p.tangent_impulse = l;
+                pair.apply_tangent(c, p, d);
             }
+            pair.store(&mut self.bodies, c);
         }
     }
 }

@@ -10,38 +10,37 @@
 //! behind: penetration is corrected without adding energy. The relax pass leaves
 //! separated points alone.
 
-use super::contact::ContactSolver;
+use super::contact::{ContactSolver, Pair};
 
 impl ContactSolver {
     pub fn solve_normal(&mut self, relax: bool) {
         let soft = self.softness;
         let max_push = self.settings.max_push_velocity;
-        for ci in 0..self.constraints.len() {
-            let c = self.constraints[ci];
-            for k in c.start..c.start + c.len {
-                let p = self.points[k as usize];
-                let s = self.separation(&c, &p);
+        let inv_h = self.inv_h;
+        for c in &self.constraints {
+            let mut pair = Pair::load(&self.bodies, c);
+            for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
+                let s = pair.separation(c, p);
                 if relax && s > 0.0 {
                     // After the drift a gap is the next substep's business: closing it
                     // here would brake a body that has not arrived yet.
                     continue;
                 }
                 let (bias, mass_scale, impulse_scale) = if s > 0.0 {
-                    (s * self.inv_h, 1.0, 0.0)
+                    (s * inv_h, 1.0, 0.0)
                 } else if !relax {
                     ((soft.bias_rate * s).max(-max_push), soft.mass_scale, soft.impulse_scale)
                 } else {
                     (0.0, 1.0, 0.0)
                 };
-                let vn = self.normal_velocity(&c, &p);
+                let vn = pair.normal_velocity(c, p);
                 let imp = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
                 let total = (p.normal_impulse + imp).max(0.0);
                 let delta = total - p.normal_impulse;
-                self.points[k as usize].normal_impulse = total;
-                if delta != 0.0 {
-                    self.apply_normal(&c, &p, delta);
-                }
+                p.normal_impulse = total;
+                pair.apply_normal(c, p, delta);
             }
+            pair.store(&mut self.bodies, c);
         }
     }
 }

@@ -47,7 +47,18 @@ impl World {
         if self.keep_derived {
             self.bodies.update_derived();
         }
-        Ok(())
+        if validate::all_finite(&self.bodies) {
+            return Ok(());
+        }
+        validate::check(&self.bodies).map_err(|e| {
+            crate::error::Error::state(format!(
+                "{} after stepping from t = {:.6} s to {:.6} s: the simulation blew up (a smaller dt, more \
+                 substeps or a stable integrator such as strang or implicit_gyro avoids it)",
+                e.message,
+                self.time() - n as f64 * self.settings.dt,
+                self.time()
+            ))
+        })
     }
 
     #[inline(always)]

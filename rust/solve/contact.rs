@@ -112,8 +112,8 @@ impl Pair {
     /// have moved apart along the normal since (m).
     #[inline(always)]
     pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
-        let d2 = self.dp2 + if c.s2 == 0 { p.r2 } else { rotate(&self.dq2, &p.r2) };
-        let d1 = self.dp1 + if c.s1 == 0 { p.r1 } else { rotate(&self.dq1, &p.r1) };
+        let d2 = self.dp2 + if c.s2 == 0 { p.anchor2 } else { rotate(&self.dq2, &p.anchor2) };
+        let d1 = self.dp1 + if c.s1 == 0 { p.anchor1 } else { rotate(&self.dq1, &p.anchor1) };
         p.base_separation + c.normal.dot(&(d2 - d1))
     }
 
@@ -153,6 +153,11 @@ impl Pair {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Point {
     /// Anchors relative to each centre of mass at the step start, world (m).
+    pub anchor1: Vec3,
+    pub anchor2: Vec3,
+    /// Current arms from each centre of mass to the contact point (m): both end at
+    /// the same world point, midway between the anchors as the bodies have moved,
+    /// so equal and opposite impulses keep angular momentum exactly.
     pub r1: Vec3,
     pub r2: Vec3,
     /// `r × n` and `I⁻¹ (r × n)` of each body.
@@ -165,7 +170,7 @@ pub struct Point {
     pub rt2: [Vec3; 2],
     pub irt1: [Vec3; 2],
     pub irt2: [Vec3; 2],
-    /// Separation at the step start minus `n·(r2 − r1)` (m).
+    /// Separation at the step start minus `n·(anchor2 − anchor1)` (m).
     pub base_separation: f64,
     /// Separation at the step start (m); negative when penetrating.
     pub separation: f64,
@@ -225,6 +230,8 @@ pub struct ContactSolver {
     pub inv_h: f64,
     pub settings: SolverSettings,
     substeps_done: u32,
+    /// Whether the solver bodies have been gathered since `prepare`.
+    gathered: bool,
 }
 
 /// Any unit vector orthogonal to `n`.
@@ -283,6 +290,7 @@ impl ContactSolver {
         self.p0.push(Vec3::zeros());
         self.q0.push(Quat::identity());
         self.substeps_done = 0;
+        self.gathered = false;
         let hertz = self.settings.contact_hertz.min(0.25 / h);
         self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
         self.inv_h = 1.0 / h;
@@ -309,6 +317,8 @@ impl ContactSolver {
                     let (r1, r2) = (mid - x1, mid - x2);
                     let ft = Vec3::from(tp.data.friction_impulse);
                     let mut p = Point {
+                        anchor1: r1,
+                        anchor2: r2,
                         r1,
                         r2,
                         base_separation: tp.dist - n.dot(&(r2 - r1)),
@@ -365,8 +375,12 @@ impl ContactSolver {
         p.tangent_mass = if det > 0.0 { [c / det, -bb / det, a / det] } else { [0.0; 3] };
     }
 
-    /// Copies velocities and pose changes of the solver bodies from the world.
+    /// Copies velocities and pose changes of the solver bodies from the world,
+    /// and brings the inverse inertias and contact arms up to the current poses
+    /// (after the first gather of a step, when they already are).
     pub fn gather(&mut self, b: &Bodies) {
+        let moved = self.substeps_done > 0 || self.gathered;
+        self.gathered = true;
         for k in 1..self.bodies.len() {
             let s = &mut self.bodies[k];
             let i = s.body as usize;
@@ -374,6 +388,41 @@ impl ContactSolver {
             s.w = Vec3::from(b.angular_velocity[i]);
             s.dp = Vec3::from(b.position[i]) - self.p0[k];
             s.dq = b.q(i) * self.q0[k].conjugate();
+            if moved && s.dynamic {
+                s.inv_i = inv_inertia_world(b, i);
+            }
+        }
+        if moved {
+            self.refresh_arms();
+        }
+    }
+
+    /// Contact arms and effective masses at the current poses.
+    fn refresh_arms(&mut self) {
+        for ci in 0..self.constraints.len() {
+            self.refresh_constraint(ci);
+        }
+    }
+
+    /// Arms and effective masses of one constraint's points at the current poses.
+    ///
+    /// The contact point moves with the bodies' translations weighted by their
+    /// inverse masses: it stays under a sphere sliding on the ground and follows a
+    /// box across it, and both arms end at it, so equal and opposite impulses keep
+    /// angular momentum exactly. (Following material points instead would tilt a
+    /// sliding sphere's arm and spin it up without friction.)
+    pub(crate) fn refresh_constraint(&mut self, ci: usize) {
+        let c = self.constraints[ci];
+        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
+        let (w1, w2) = if a1.inv_m + a2.inv_m > 0.0 { (a1.inv_m, a2.inv_m) } else { (1.0, 1.0) };
+        let (dp1, dp2) = (a1.dp, a2.dp);
+        let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
+        for k in c.start..c.start + c.len {
+            let mut p = self.points[k as usize];
+            p.r1 = p.anchor1 + shift - dp1;
+            p.r2 = p.anchor2 + shift - dp2;
+            self.masses(&mut p, c.s1 as usize, c.s2 as usize, &c.normal, &c.t1, &c.t2);
+            self.points[k as usize] = p;
         }
     }
 
@@ -387,73 +436,30 @@ impl ContactSolver {
         }
     }
 
-    /// Applies the impulse `imp` (world) at the point: `-imp` to body 1, `+imp` to body 2.
-    #[inline(always)]
-    pub fn apply(&mut self, c: &Constraint, p: &Point, imp: &Vec3) {
-        let a = &mut self.bodies[c.s1 as usize];
-        a.v -= imp * a.inv_m;
-        a.w -= a.inv_i * p.r1.cross(imp);
-        let a = &mut self.bodies[c.s2 as usize];
-        a.v += imp * a.inv_m;
-        a.w += a.inv_i * p.r2.cross(imp);
-    }
-
     /// Applies a normal impulse `j` (N·s) at the point.
-    #[inline(always)]
     pub fn apply_normal(&mut self, c: &Constraint, p: &Point, j: f64) {
-        let a = &mut self.bodies[c.s1 as usize];
-        a.v -= c.normal * (j * a.inv_m);
-        a.w -= p.irn1 * j;
-        let a = &mut self.bodies[c.s2 as usize];
-        a.v += c.normal * (j * a.inv_m);
-        a.w += p.irn2 * j;
+        let mut pair = Pair::load(&self.bodies, c);
+        pair.apply_normal(c, p, j);
+        pair.store(&mut self.bodies, c);
     }
 
     /// Applies a tangential impulse `d` (N·s, in the `t1, t2` basis) at the point.
-    #[inline(always)]
     pub fn apply_tangent(&mut self, c: &Constraint, p: &Point, d: [f64; 2]) {
-        let imp = c.t1 * d[0] + c.t2 * d[1];
-        let a = &mut self.bodies[c.s1 as usize];
-        a.v -= imp * a.inv_m;
-        a.w -= p.irt1[0] * d[0] + p.irt1[1] * d[1];
-        let a = &mut self.bodies[c.s2 as usize];
-        a.v += imp * a.inv_m;
-        a.w += p.irt2[0] * d[0] + p.irt2[1] * d[1];
+        let mut pair = Pair::load(&self.bodies, c);
+        pair.apply_tangent(c, p, d);
+        pair.store(&mut self.bodies, c);
     }
 
-    /// Tangential components of the relative velocity (m/s).
-    #[inline(always)]
-    pub fn tangent_velocity(&self, c: &Constraint, p: &Point) -> [f64; 2] {
-        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
-        let dv = a2.v - a1.v;
-        [
-            c.t1.dot(&dv) + a2.w.dot(&p.rt2[0]) - a1.w.dot(&p.rt1[0]),
-            c.t2.dot(&dv) + a2.w.dot(&p.rt2[1]) - a1.w.dot(&p.rt1[1]),
-        ]
-    }
-
-    /// Velocity of body 2's anchor relative to body 1's (m/s).
-    #[inline(always)]
-    pub fn relative_velocity(&self, c: &Constraint, p: &Point) -> Vec3 {
-        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
-        (a2.v + a2.w.cross(&p.r2)) - (a1.v + a1.w.cross(&p.r1))
-    }
-
-    /// Normal component of the relative velocity (m/s).
-    #[inline(always)]
     pub fn normal_velocity(&self, c: &Constraint, p: &Point) -> f64 {
-        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
-        c.normal.dot(&(a2.v - a1.v)) + a2.w.dot(&p.rn2) - a1.w.dot(&p.rn1)
+        Pair::load(&self.bodies, c).normal_velocity(c, p)
     }
 
-    /// Current separation: the step-start separation plus how far the anchors
-    /// have moved apart along the normal since (m).
-    #[inline(always)]
+    pub fn tangent_velocity(&self, c: &Constraint, p: &Point) -> [f64; 2] {
+        Pair::load(&self.bodies, c).tangent_velocity(c, p)
+    }
+
     pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
-        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
-        let d2 = a2.dp + if c.s2 == 0 { p.r2 } else { rotate(&a2.dq, &p.r2) };
-        let d1 = a1.dp + if c.s1 == 0 { p.r1 } else { rotate(&a1.dq, &p.r1) };
-        p.base_separation + c.normal.dot(&(d2 - d1))
+        Pair::load(&self.bodies, c).separation(c, p)
     }
 
     /// Re-applies the impulses of the previous substep (or step) and adds the
@@ -519,15 +525,24 @@ impl ContactSolver {
         out
     }
 
-    /// Moves solver body `s` (and its world body) by `dx` and turns it by `dtheta`.
+    /// Moves solver body `s` (and its world body) by `dx` and turns it by
+    /// `dtheta`, keeping its inverse inertia current.
     pub fn displace(&mut self, b: &mut Bodies, s: usize, dx: &Vec3, dtheta: &Vec3) {
         let i = self.bodies[s].body as usize;
         b.position[i] = (Vec3::from(b.position[i]) + dx).into();
-        let q = quat::exp(dtheta) * b.q(i);
-        b.orientation[i] = quat::to_xyzw(&(q / q.norm()));
-        self.bodies[s].dp += dx;
-        self.bodies[s].dq = quat::exp(dtheta) * self.bodies[s].dq;
+        let turn = quat::exp(dtheta);
+        b.orientation[i] = quat::to_xyzw(&quat::normalize(&(turn * b.q(i))));
+        let sb = &mut self.bodies[s];
+        sb.dp += dx;
+        sb.dq = turn * sb.dq;
+        sb.inv_i = inv_inertia_world(b, i);
     }
+}
+
+/// `R I0 Rᵀ` of body `i`.
+pub fn inertia_world(b: &Bodies, i: usize) -> Mat3 {
+    let r = quat::to_matrix(&b.q(i));
+    r * Mat3::from_diagonal(&Vec3::from(b.inertia[i])) * r.transpose()
 }
 
 /// `R I0⁻¹ Rᵀ` of body `i`.

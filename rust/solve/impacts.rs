@@ -9,11 +9,13 @@
 //! Each impact happens at its time of impact `t_c` inside the substep, not at its
 //! start. The kick before it gave the bodies the whole substep's acceleration `a`;
 //! the impact reverses the approach speed they had at `t_c` (`v_n − a_n (h − t_c)`)
-//! and the remaining `h − t_c` of acceleration acts after it. The bodies are then
-//! moved back by `Δv·t_c` (and turned back by `Δω·t_c`), so that after the drift
-//! they are where a bounce at `t_c` would leave them.
+//! and the remaining `h − t_c` of acceleration acts after it. The bodies are moved
+//! to where they are at `t_c`, take the impulses there (so that linear and angular
+//! momentum balance about one point), and are moved back along their new
+//! velocities by `t_c`, so that after the drift they are where a bounce at `t_c`
+//! would leave them; a turned body keeps its world angular momentum.
 
-use super::contact::{Constraint, ContactSolver};
+use super::contact::{inertia_world, Constraint, ContactSolver};
 use crate::body::Bodies;
 use crate::integrate::kick::KickSources;
 use super::friction::cone;
@@ -69,7 +71,8 @@ impl ContactSolver {
         if target.iter().all(|t| t.is_none()) {
             return false;
         }
-        let before = self.velocities(&c);
+        self.advance(b, &c, t_c, 1.0);
+        self.refresh_constraint(ci);
         let mut lambda = [0.0; 8];
         for _ in 0..MANIFOLD_PASSES {
             for (slot, k) in (c.start..c.start + c.len).enumerate().take(8) {
@@ -91,7 +94,8 @@ impl ContactSolver {
             q.total_tangent[0] += t[0];
             q.total_tangent[1] += t[1];
         }
-        self.move_back(b, &c, &before, t_c);
+        self.advance(b, &c, t_c, -1.0);
+        self.refresh_constraint(ci);
         true
     }
 
@@ -106,24 +110,20 @@ impl ContactSolver {
         l
     }
 
-    fn velocities(&self, c: &Constraint) -> [Vec3; 4] {
-        let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
-        [a1.v, a1.w, a2.v, a2.w]
-    }
-
-    /// Moves both bodies back by their velocity change times `t_c`, so the change
-    /// acts from the time of impact instead of the substep start.
-    fn move_back(&mut self, b: &mut Bodies, c: &Constraint, before: &[Vec3; 4], t_c: f64) {
-        if t_c <= 0.0 {
+    /// Moves the dynamic bodies of `c` along their velocities by `sign·t`; a turn
+    /// keeps the body's world angular momentum `I ω`.
+    fn advance(&mut self, b: &mut Bodies, c: &Constraint, t: f64, sign: f64) {
+        if t <= 0.0 {
             return;
         }
-        for (slot, s) in [c.s1 as usize, c.s2 as usize].into_iter().enumerate() {
+        for s in [c.s1 as usize, c.s2 as usize] {
             if !self.bodies[s].dynamic {
                 continue;
             }
-            let dv = self.bodies[s].v - before[2 * slot];
-            let dw = self.bodies[s].w - before[2 * slot + 1];
-            self.displace(b, s, &(-dv * t_c), &(-dw * t_c));
+            let (v, w, i) = (self.bodies[s].v, self.bodies[s].w, self.bodies[s].body as usize);
+            let momentum = inertia_world(b, i) * w;
+            self.displace(b, s, &(v * (sign * t)), &(w * (sign * t)));
+            self.bodies[s].w = self.bodies[s].inv_i * momentum;
         }
     }
 }

@@ -11,7 +11,9 @@
 //! * `pipeline/…`: `world.step(1)` and `world.step(10)` of the default integrator
 //!   against the bare kernels it runs (`drift::translate` then
 //!   `free_rotation::rotate_asymmetric`) on the same bodies, so that the cost of
-//!   the pipeline (state check, normalisation, planning) is visible.
+//!   the pipeline (state check, normalisation, planning) is visible; and
+//!   `reference_kernel`, the one-body-at-a-time form of the same kernel
+//!   (`free_rotation::rotate_asymmetric_one`, bit-identical results).
 //!
 //! Each criterion sample starts from the same initial state (restored outside
 //! the timed region), so that methods that gain energy (euler) are timed on the
@@ -182,6 +184,21 @@ fn pipeline(c: &mut Criterion) {
             for _ in 0..iters {
                 drift::translate(&mut bodies, &lists.dynamic, black_box(DT));
                 free_rotation::rotate_asymmetric(&mut bodies, &lists.asymmetric, black_box(DT));
+            }
+            t0.elapsed()
+        })
+    });
+    // The same kernel one body at a time with the axes read at run time (how it was
+    // written before the grouped, specialised version; bit-identical results).
+    g.bench_function("reference_kernel", |b| {
+        b.iter_custom(|iters| {
+            init.restore(&mut bodies);
+            let t0 = Instant::now();
+            for _ in 0..iters {
+                drift::translate(&mut bodies, &lists.dynamic, black_box(DT));
+                for a in &lists.asymmetric {
+                    free_rotation::rotate_asymmetric_one(&mut bodies, a, black_box(DT));
+                }
             }
             t0.elapsed()
         })

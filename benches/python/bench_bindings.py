@@ -11,7 +11,8 @@
 
 Every figure is the median of --repeats timed runs (after one warm-up run); the
 machine is shared, so run it on a quiet machine and look at the spread (min, max)
-printed next to each median. Prints a table, then one JSON line (also written to
+printed next to each median. "CPU ns" is the thread's CPU time per body-step of
+`world.step(k)`, which leaves out the time the process waited for a core. Prints a table, then one JSON line (also written to
 --json PATH if given).
 
     python benches/python/bench_bindings.py                 # ~1 min
@@ -51,14 +52,18 @@ def boxes_world(n, integrator, seed=0, spacing=1.0, omega=5.0, density=1000.0, d
     return scene.build(dt=dt, integrator=integrator)
 
 
-def timed(fn, repeats):
-    """Seconds of each of `repeats` runs of fn(), after one warm-up run."""
+def timed(fn, repeats, cpu=None):
+    """Wall-clock seconds of each of `repeats` runs of fn(), after one warm-up run; if
+    `cpu` is a list, the thread's CPU seconds of each run are appended to it (not
+    counting time the thread waited for a core: the machine is shared)."""
     fn()
     out = []
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        c0, t0 = time.thread_time(), time.perf_counter()
         fn()
         out.append(time.perf_counter() - t0)
+        if cpu is not None:
+            cpu.append(time.thread_time() - c0)
     return out
 
 
@@ -73,7 +78,8 @@ def throughput(a):
     for name in rr.INTEGRATORS:
         world = boxes_world(a.n, name)
         step = world.step
-        batch = timed(lambda: step(a.k), a.repeats)
+        batch_cpu = []
+        batch = timed(lambda: step(a.k), a.repeats, batch_cpu)
 
         def loop():
             for _ in range(a.k):
@@ -87,6 +93,7 @@ def throughput(a):
             "batch_body_steps_per_s": summary([1 / t for t in batch], body_steps),
             "loop_body_steps_per_s": summary([1 / t for t in looped], body_steps),
             "batch_ns_per_body_step": summary(batch, 1e9 / body_steps),
+            "batch_cpu_ns_per_body_step": summary(batch_cpu, 1e9 / body_steps),
             "loop_ns_per_body_step": summary(looped, 1e9 / body_steps),
         }
     return rows
@@ -128,12 +135,14 @@ def main():
     overhead = call_overhead(a)
 
     print(f"rigidrs {rr.__version__}: {a.n} free boxes, {a.k} steps per run, median of {a.repeats} (min-max)")
-    print(f"{'integrator':18} {'world.step(k)':>26} {'k x world.step()':>26} {'ns/body-step (k)':>17}")
+    print(f"{'integrator':18} {'world.step(k)':>26} {'k x world.step()':>26} {'ns/body-step (k)':>17}"
+          f" {'CPU ns (k)':>11}")
     for name, r in rows.items():
         b, l, ns = r["batch_body_steps_per_s"], r["loop_body_steps_per_s"], r["batch_ns_per_body_step"]
+        cpu = r["batch_cpu_ns_per_body_step"]
         print(f"{name:18} {b['median'] / 1e6:8.2f} M/s ({b['min'] / 1e6:5.2f}-{b['max'] / 1e6:5.2f})"
               f" {l['median'] / 1e6:8.2f} M/s ({l['min'] / 1e6:5.2f}-{l['max'] / 1e6:5.2f})"
-              f" {ns['median']:12.1f}")
+              f" {ns['median']:17.1f} {cpu['median']:11.1f}")
     print(f"\none world.step() call on a 1-body world, {a.calls} calls per run, median of {a.repeats} (min-max)")
     for key, r in overhead.items():
         c, s = r["us_per_call"], r["us_per_step_in_one_call"]

@@ -42,6 +42,7 @@ def rng(runs, key, scale=1.0):
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("results")
+    ap.add_argument("--clock", default="wall", help="wall or cpu: how the runs were timed (for the heading)")
     ap.add_argument("--peer-versions", help="JSON of the peer environment's versions (run_side_by_side.sh writes it)")
     a = ap.parse_args()
     vers = {k: v for k, v in versions().items() if v}
@@ -58,7 +59,9 @@ def main():
     reps = max((len(v) for v in groups.values()), default=0)
     print(f"# rigidrs against peer engines, same scenes\n")
     print(f"{datetime.date.today()}, {os.cpu_count()} cores ({cpu_name()}), shared with other jobs; "
-          f"medians of {reps} runs, run sequentially. Versions: "
+          f"medians of {reps} runs, run sequentially, timed by "
+          + ("wall clock" if a.clock == "wall" else "process CPU time (waiting for a core not counted)")
+          + ". Versions: "
           + ", ".join(f"{k} {v}" for k, v in vers.items()) + ".\n")
 
     fb = {k[1:]: v for k, v in groups.items() if k[0] == "free_bodies"}
@@ -91,7 +94,7 @@ def main():
         print(f"\n## dzhanibekov: inertia (1, 2, 3), ω0 = (0.01, 5, 0), {first['steps']} steps of "
               f"{first['dt']:.6g} s, against DOP853 (flip period {first['flip_period_ref']:.4f} s, "
               f"{first['n_flips_ref']} flips)\n")
-        print("| engine | variant | energy drift | \\|L\\| drift | max \\|energy drift\\| | flip-period error | flips | wall s |")
+        print("| engine | variant | energy drift | \\|L\\| drift | max \\|energy drift\\| | flip-period error | flips | s (steps + reads) |")
         print("|---|---|---|---|---|---|---|---|")
         order = sorted(dz, key=lambda k: (k[0] == "rigidrs", k[0]))
         for e, v in order:

@@ -11,12 +11,15 @@
 # RIGIDRS_PY has rigidrs (pip install .) and scipy. Engines that fail to import are skipped
 # (their errors go to side_by_side.log). Output in OUT_DIR (default: a new temporary folder):
 # results.jsonl (raw JSON lines), peer_versions.json, side_by_side.log (stderr), COMPARISON.md.
+# CLOCK=cpu times every script with the process CPU clock instead of wall time (through
+# cpu_clock.py), for a machine shared with other jobs.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 : "${PEERS_DIR:?set PEERS_DIR to the folder of the peer-engine scripts}"
 PEERS_PY=${PEERS_PY:-python3}
 RIGIDRS_PY=${RIGIDRS_PY:-python3}
 REPS=${REPS:-3}
+CLOCK=${CLOCK:-wall}
 OUT_DIR=${OUT_DIR:-$(mktemp -d)}
 mkdir -p "$OUT_DIR"
 OUT=$OUT_DIR/results.jsonl
@@ -27,7 +30,9 @@ LOG=$OUT_DIR/side_by_side.log
 run() {  # run PY DIR SCRIPT ARGS...
     local py=$1 dir=$2; shift 2
     echo "+ $*" >> "$LOG"
-    (cd "$dir" && "$py" "$@" 2>> "$LOG" | grep '^{' >> "$OUT") || echo "  failed: $*" >> "$LOG"
+    local launch=()
+    [ "$CLOCK" = cpu ] && launch=("$HERE/cpu_clock.py")
+    (cd "$dir" && "$py" "${launch[@]}" "$@" 2>> "$LOG" | grep '^{' >> "$OUT") || echo "  failed: $*" >> "$LOG"
 }
 
 "$PEERS_PY" -c "import json, sys; sys.path.insert(0, '$PEERS_DIR'); from common import versions; print(json.dumps(versions()))" \
@@ -45,5 +50,5 @@ for rep in $(seq "$REPS"); do
     done
     run "$RIGIDRS_PY" "$HERE" dzhanibekov.py --integrator all
 done
-"$RIGIDRS_PY" "$HERE/compare.py" "$OUT" --peer-versions "$OUT_DIR/peer_versions.json" > "$OUT_DIR/COMPARISON.md"
+"$RIGIDRS_PY" "$HERE/compare.py" "$OUT" --peer-versions "$OUT_DIR/peer_versions.json" --clock "$CLOCK" > "$OUT_DIR/COMPARISON.md"
 echo "done in $(( $(date +%s) - start )) s; wrote $OUT_DIR/COMPARISON.md" >&2

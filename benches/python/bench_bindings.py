@@ -12,7 +12,8 @@
 Every figure is the median of --repeats timed runs (after one warm-up run); the
 machine is shared, so run it on a quiet machine and look at the spread (min, max)
 printed next to each median. "CPU ns" is the thread's CPU time per body-step of
-`world.step(k)`, which leaves out the time the process waited for a core. Prints a table, then one JSON line (also written to
+`world.step(k)` and of k x `world.step()`, which leaves out the time the process
+waited for a core. Prints a table, then one JSON line (also written to
 --json PATH if given).
 
     python benches/python/bench_bindings.py                 # ~1 min
@@ -85,7 +86,8 @@ def throughput(a):
             for _ in range(a.k):
                 step()
 
-        looped = timed(loop, a.repeats)
+        looped_cpu = []
+        looped = timed(loop, a.repeats, looped_cpu)
         body_steps = a.n * a.k
         rows[name] = {
             "stages": world.stages,
@@ -95,6 +97,7 @@ def throughput(a):
             "batch_ns_per_body_step": summary(batch, 1e9 / body_steps),
             "batch_cpu_ns_per_body_step": summary(batch_cpu, 1e9 / body_steps),
             "loop_ns_per_body_step": summary(looped, 1e9 / body_steps),
+            "loop_cpu_ns_per_body_step": summary(looped_cpu, 1e9 / body_steps),
         }
     return rows
 
@@ -112,12 +115,15 @@ def call_overhead(a):
             for _ in range(a.calls):
                 step()
 
-        per_call = timed(loop, a.repeats)
-        in_rust = timed(lambda: step(a.calls), a.repeats)
+        per_call_cpu, in_rust_cpu = [], []
+        per_call = timed(loop, a.repeats, per_call_cpu)
+        in_rust = timed(lambda: step(a.calls), a.repeats, in_rust_cpu)
         key = "profiling_on" if profiling else "profiling_off"
         out[key] = {
             "us_per_call": summary(per_call, 1e6 / a.calls),
             "us_per_step_in_one_call": summary(in_rust, 1e6 / a.calls),
+            "cpu_us_per_call": summary(per_call_cpu, 1e6 / a.calls),
+            "cpu_us_per_step_in_one_call": summary(in_rust_cpu, 1e6 / a.calls),
         }
     return out
 
@@ -136,18 +142,19 @@ def main():
 
     print(f"rigidrs {rr.__version__}: {a.n} free boxes, {a.k} steps per run, median of {a.repeats} (min-max)")
     print(f"{'integrator':18} {'world.step(k)':>26} {'k x world.step()':>26} {'ns/body-step (k)':>17}"
-          f" {'CPU ns (k)':>11}")
+          f" {'CPU ns (k)':>11} {'CPU ns (k x 1)':>15}")
     for name, r in rows.items():
         b, l, ns = r["batch_body_steps_per_s"], r["loop_body_steps_per_s"], r["batch_ns_per_body_step"]
-        cpu = r["batch_cpu_ns_per_body_step"]
+        cpu, cpu1 = r["batch_cpu_ns_per_body_step"], r["loop_cpu_ns_per_body_step"]
         print(f"{name:18} {b['median'] / 1e6:8.2f} M/s ({b['min'] / 1e6:5.2f}-{b['max'] / 1e6:5.2f})"
               f" {l['median'] / 1e6:8.2f} M/s ({l['min'] / 1e6:5.2f}-{l['max'] / 1e6:5.2f})"
-              f" {ns['median']:17.1f} {cpu['median']:11.1f}")
+              f" {ns['median']:17.1f} {cpu['median']:11.1f} {cpu1['median']:15.1f}")
     print(f"\none world.step() call on a 1-body world, {a.calls} calls per run, median of {a.repeats} (min-max)")
     for key, r in overhead.items():
         c, s = r["us_per_call"], r["us_per_step_in_one_call"]
-        print(f"  {key:14} {c['median']:6.3f} us per call ({c['min']:.3f}-{c['max']:.3f});"
-              f" inside one step(k): {s['median']:6.3f} us per step")
+        cc, cs = r["cpu_us_per_call"], r["cpu_us_per_step_in_one_call"]
+        print(f"  {key:14} {c['median']:6.3f} us per call ({c['min']:.3f}-{c['max']:.3f}), CPU {cc['median']:6.3f};"
+              f" inside one step(k): {s['median']:6.3f} us per step, CPU {cs['median']:6.3f}")
 
     result = {
         "bench": "bindings", "rigidrs": rr.__version__, "python": platform.python_version(),

@@ -51,7 +51,11 @@ fn flow_axis(q: &mut Quat, lb: &mut Vec3, j: usize, hc: f64) {
 /// are interleaved so that the processor overlaps them.
 #[inline(always)]
 fn flow_axis_k<const J: usize, const K: usize>(q: &mut [Quat; K], lb: &mut [Vec3; K], hc: &[f64; K]) {
-    let sc: [(f64, f64); K] = std::array::from_fn(|m| (0.5 * (hc[m] * lb[m][J])).sin_cos());
+    // A plain loop rather than `std::array::from_fn`, which is not always inlined.
+    let mut sc = [(0.0, 0.0); K];
+    for m in 0..K {
+        sc[m] = (0.5 * (hc[m] * lb[m][J])).sin_cos();
+    }
     for m in 0..K {
         let (s, c) = sc[m];
         q[m] = quat::mul_axis(&q[m], J, s, c);
@@ -104,7 +108,7 @@ pub fn rotate_asymmetric(b: &mut Bodies, list: &[Aniso], h: f64) {
     let mut groups = list.chunks_exact(4);
     for g in &mut groups {
         if g[1..].iter().all(|a| a.axes == g[0].axes) {
-            asymmetric_dispatch::<4>(b, std::array::from_fn(|m| &g[m]), h);
+            asymmetric_dispatch::<4>(b, [&g[0], &g[1], &g[2], &g[3]], h);
         } else {
             g.iter().for_each(|a| asymmetric_dispatch::<1>(b, [a], h));
         }
@@ -148,8 +152,11 @@ fn asymmetric_k<const JB: usize, const JC: usize, const K: usize>(b: &mut Bodies
     for m in 0..K {
         (q[m], lb[m]) = load(b, a[m].index as usize);
     }
-    let hb: [f64; K] = std::array::from_fn(|m| 0.5 * h * a[m].coef[1]);
-    let hc: [f64; K] = std::array::from_fn(|m| h * a[m].coef[2]);
+    let (mut hb, mut hc) = ([0.0; K], [0.0; K]);
+    for m in 0..K {
+        hb[m] = 0.5 * h * a[m].coef[1];
+        hc[m] = h * a[m].coef[2];
+    }
     flow_axis_k::<JB, K>(&mut q, &mut lb, &hb);
     flow_axis_k::<JC, K>(&mut q, &mut lb, &hc);
     flow_axis_k::<JB, K>(&mut q, &mut lb, &hb);

@@ -26,9 +26,8 @@
 
 use std::time::{Duration, Instant};
 
-
-use criterion::{black_box, criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use criterion::measurement::WallTime;
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use rigidrs::body::{Bodies, Shape};
 use rigidrs::integrate::{drift, free_rotation, Integrator};
 use rigidrs::world::{BodySpec, Scene, Settings, World};

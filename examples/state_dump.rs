@@ -99,7 +99,10 @@ fn main() {
             std::fs::File::open(path).unwrap().read_to_end(&mut bytes).unwrap();
             let saved: Vec<f64> = bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
             let mut worst: f64 = 0.0;
-            println!("{:34} {:>10} {:>10} {:>10} {:>10}", "scene / integrator", "max dq", "rel dp", "rel dw", "bit-same");
+            println!(
+                "{:34} {:>10} {:>10} {:>10} {:>10}",
+                "scene / integrator", "max dq", "rel dp", "rel dw", "bit-same"
+            );
             for (k, (label, new)) in states.iter().enumerate() {
                 let old = &saved[k * N * FIELDS..(k + 1) * N * FIELDS];
                 let diff: Vec<f64> = old.iter().zip(new).map(|(a, b)| a - b).collect();

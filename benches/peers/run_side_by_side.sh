@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Run the free_bodies and dzhanibekov scenes in rigidrs and in the peer engines, REPS times,
+# sequentially (repetitions outermost, so machine noise spreads over every engine), then
+# write the medians and ratios with compare.py.
+#
+#   PEERS_DIR=/path/to/peer/scripts PEERS_PY=/venv-peers/bin/python RIGIDRS_PY=/venv/bin/python \
+#       bash benches/peers/run_side_by_side.sh
+#
+# PEERS_DIR holds the peer-engine scripts (free_bodies.py, dzhanibekov.py, common.py that
+# take --engine mujoco|pybullet|rapier3d); PEERS_PY has numpy scipy mujoco pybullet rapier3d,
+# RIGIDRS_PY has rigidrs (pip install .) and scipy. Engines that fail to import are skipped
+# (their errors go to side_by_side.log). Output in OUT_DIR (default: a new temporary folder):
+# results.jsonl (raw JSON lines), peer_versions.json, side_by_side.log (stderr), COMPARISON.md.
+# CLOCK=cpu times every script with the process CPU clock instead of wall time (through
+# cpu_clock.py), for a machine shared with other jobs.
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")" && pwd)
+: "${PEERS_DIR:?set PEERS_DIR to the folder of the peer-engine scripts}"
+PEERS_PY=${PEERS_PY:-python3}
+RIGIDRS_PY=${RIGIDRS_PY:-python3}
+REPS=${REPS:-3}
+CLOCK=${CLOCK:-wall}
+OUT_DIR=${OUT_DIR:-$(mktemp -d)}
+mkdir -p "$OUT_DIR"
+OUT=$OUT_DIR/results.jsonl
+LOG=$OUT_DIR/side_by_side.log
+: > "$OUT"
+: > "$LOG"
+
+run() {  # run PY DIR SCRIPT ARGS...
+    local py=$1 dir=$2; shift 2
+    echo "+ $*" >> "$LOG"
+    local launch=()
+    [ "$CLOCK" = cpu ] && launch=("$HERE/cpu_clock.py")
+    (cd "$dir" && "$py" "${launch[@]}" "$@" 2>> "$LOG" | grep '^{' >> "$OUT") || echo "  failed: $*" >> "$LOG"
+}
+
+"$PEERS_PY" -c "import json, sys; sys.path.insert(0, '$PEERS_DIR'); from common import versions; print(json.dumps(versions()))" \
+    > "$OUT_DIR/peer_versions.json" 2>> "$LOG" || echo '{}' > "$OUT_DIR/peer_versions.json"
+start=$(date +%s)
+for rep in $(seq "$REPS"); do
+    echo "rep $rep/$REPS ($(( $(date +%s) - start )) s)" >&2
+    for e in mujoco pybullet rapier3d; do
+        run "$PEERS_PY" "$PEERS_DIR" free_bodies.py --engine "$e"
+    done
+    run "$PEERS_PY" "$PEERS_DIR" free_bodies.py --engine mujoco --mj-integrator RK4
+    run "$RIGIDRS_PY" "$HERE" free_bodies.py --integrator all
+    for e in mujoco pybullet rapier3d; do
+        run "$PEERS_PY" "$PEERS_DIR" dzhanibekov.py --engine "$e"
+    done
+    run "$RIGIDRS_PY" "$HERE" dzhanibekov.py --integrator all
+done
+"$RIGIDRS_PY" "$HERE/compare.py" "$OUT" --peer-versions "$OUT_DIR/peer_versions.json" --clock "$CLOCK" > "$OUT_DIR/COMPARISON.md"
+echo "done in $(( $(date +%s) - start )) s; wrote $OUT_DIR/COMPARISON.md" >&2

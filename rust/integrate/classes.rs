@@ -121,7 +121,7 @@ pub fn classify(m: &[f64; 3]) -> (InertiaClass, [u8; 3]) {
     (InertiaClass::Asymmetric, [order[1], order[2], order[0]])
 }
 
-fn aniso(i: usize, m: &[f64; 3], axes: [u8; 3]) -> Aniso {
+pub fn aniso(i: usize, m: &[f64; 3], axes: [u8; 3]) -> Aniso {
     let ca = 1.0 / m[axes[0] as usize];
     Aniso {
         index: i as u32,

@@ -131,6 +131,17 @@ pub fn rotate_asymmetric_one(b: &mut Bodies, a: &Aniso, h: f64) {
     store(b, i, q, &lb);
 }
 
+/// The torque-free flow of one dynamic body over `h` (which may be negative: the
+/// flows are exact or symmetric, so `−h` undoes `h`), whatever its class.
+pub fn flow_one(b: &mut Bodies, i: usize, h: f64) {
+    let m = b.inertia[i];
+    match super::classes::classify(&m) {
+        (super::InertiaClass::Isotropic, _) => rotate_isotropic(b, &[i as u32], h),
+        (super::InertiaClass::Symmetric, axes) => rotate_symmetric(b, &[super::classes::aniso(i, &m, axes)], h),
+        (super::InertiaClass::Asymmetric, axes) => rotate_asymmetric_one(b, &super::classes::aniso(i, &m, axes), h),
+    }
+}
+
 /// `K` bodies sharing the axes of `a[0]`, to the kernel specialised for them.
 #[inline(always)]
 fn asymmetric_dispatch<const K: usize>(b: &mut Bodies, a: [&Aniso; K], h: f64) {

@@ -12,8 +12,9 @@
 use super::soft::Softness;
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
-use crate::collide::material::combine;
-use crate::collide::narrow_phase::{ContactReport, NarrowPhase};
+use crate::collide::material::{combine, ContactMaterial};
+use crate::collide::narrow_phase::{ContactReport, Manifold, NarrowPhase};
+use nalgebra::Isometry3;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// Contact solver parameters, each with its unit and default.
@@ -147,6 +148,20 @@ impl Pair {
         self.v2 += imp * self.m2;
         self.w2 += p.irt2[0] * d[0] + p.irt2[1] * d[1];
     }
+}
+
+/// What the constraints of one collider pair share.
+pub struct PairContext {
+    pub s1: u32,
+    pub s2: u32,
+    pub b1: u32,
+    pub b2: u32,
+    pub pose1: Isometry3<f64>,
+    pub pose2: Isometry3<f64>,
+    pub x1: Vec3,
+    pub x2: Vec3,
+    pub material: ContactMaterial,
+    pub pair: (u32, u32),
 }
 
 /// One contact point.
@@ -296,60 +311,79 @@ impl ContactSolver {
         self.inv_h = 1.0 / h;
         for &(ci, cj) in &narrow.touching {
             let Some(state) = narrow.pairs.get(&(ci, cj)) else { continue };
-            let (c1, c2) = (&colliders[ci as usize], &colliders[cj as usize]);
-            let (b1, b2) = (c1.body as usize, c2.body as usize);
-            let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
-            let material = combine(&c1.material, &c2.material);
-            let (pose1, pose2) = (c1.pose(b), c2.pose(b));
-            let (x1, x2) = (Vec3::from(b.position[b1]), Vec3::from(b.position[b2]));
+            let ctx = self.pair_context(colliders, b, (ci, cj));
             for (m, manifold) in state.manifolds.iter().enumerate() {
-                if manifold.points.is_empty() {
-                    continue;
-                }
-                let sub1 = manifold.subshape_pos1.map_or(pose1, |s| pose1 * s);
-                let sub2 = manifold.subshape_pos2.map_or(pose2, |s| pose2 * s);
-                let n = sub1.rotation * manifold.local_n1;
-                let t1 = orthonormal(&n);
-                let t2 = n.cross(&t1);
-                let start = self.points.len() as u32;
-                for (k, tp) in manifold.points.iter().enumerate() {
-                    let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
-                    let (r1, r2) = (mid - x1, mid - x2);
-                    let ft = Vec3::from(tp.data.friction_impulse);
-                    let mut p = Point {
-                        anchor1: r1,
-                        anchor2: r2,
-                        r1,
-                        r2,
-                        base_separation: tp.dist - n.dot(&(r2 - r1)),
-                        separation: tp.dist,
-                        point: mid,
-                        normal_impulse: tp.data.normal_impulse,
-                        tangent_impulse: [ft.dot(&t1), ft.dot(&t2)],
-                        manifold_point: k as u32,
-                        ..Default::default()
-                    };
-                    self.masses(&mut p, s1 as usize, s2 as usize, &n, &t1, &t2);
-                    self.points.push(p);
-                }
-                self.constraints.push(Constraint {
-                    s1,
-                    s2,
-                    normal: n,
-                    t1,
-                    t2,
-                    friction: material.friction,
-                    static_friction: material.static_friction,
-                    restitution: material.restitution,
-                    start,
-                    len: self.points.len() as u32 - start,
-                    b1: b1 as u32,
-                    b2: b2 as u32,
-                    pair: (ci, cj),
-                    manifold: m as u32,
-                });
+                self.push_manifold(manifold, &ctx, m as u32, true);
             }
         }
+    }
+
+    /// What the constraints of a collider pair share, at the bodies' current poses.
+    pub(crate) fn pair_context(&mut self, colliders: &[Collider], b: &Bodies, pair: (u32, u32)) -> PairContext {
+        let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
+        let (b1, b2) = (c1.body as usize, c2.body as usize);
+        PairContext {
+            s1: self.enter(b, b1),
+            s2: self.enter(b, b2),
+            b1: b1 as u32,
+            b2: b2 as u32,
+            pose1: c1.pose(b),
+            pose2: c2.pose(b),
+            x1: Vec3::from(b.position[b1]),
+            x2: Vec3::from(b.position[b2]),
+            material: combine(&c1.material, &c2.material),
+            pair,
+        }
+    }
+
+    /// Appends the constraint of one parry manifold (nothing if it has no point);
+    /// `warm`: start from the impulses the manifold carries.
+    pub(crate) fn push_manifold(&mut self, manifold: &Manifold, ctx: &PairContext, index: u32, warm: bool) {
+        if manifold.points.is_empty() {
+            return;
+        }
+        let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
+        let sub2 = manifold.subshape_pos2.map_or(ctx.pose2, |s| ctx.pose2 * s);
+        let n = sub1.rotation * manifold.local_n1;
+        let t1 = orthonormal(&n);
+        let t2 = n.cross(&t1);
+        let start = self.points.len() as u32;
+        for (k, tp) in manifold.points.iter().enumerate() {
+            let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
+            let (r1, r2) = (mid - ctx.x1, mid - ctx.x2);
+            let (jn, ft) = if warm { (tp.data.normal_impulse, Vec3::from(tp.data.friction_impulse)) } else { (0.0, Vec3::zeros()) };
+            let mut p = Point {
+                anchor1: r1,
+                anchor2: r2,
+                r1,
+                r2,
+                base_separation: tp.dist - n.dot(&(r2 - r1)),
+                separation: tp.dist,
+                point: mid,
+                normal_impulse: jn,
+                tangent_impulse: [ft.dot(&t1), ft.dot(&t2)],
+                manifold_point: k as u32,
+                ..Default::default()
+            };
+            self.masses(&mut p, ctx.s1 as usize, ctx.s2 as usize, &n, &t1, &t2);
+            self.points.push(p);
+        }
+        self.constraints.push(Constraint {
+            s1: ctx.s1,
+            s2: ctx.s2,
+            normal: n,
+            t1,
+            t2,
+            friction: ctx.material.friction,
+            static_friction: ctx.material.static_friction,
+            restitution: ctx.material.restitution,
+            start,
+            len: self.points.len() as u32 - start,
+            b1: ctx.b1,
+            b2: ctx.b2,
+            pair: ctx.pair,
+            manifold: index,
+        });
     }
 
     fn masses(&self, p: &mut Point, s1: usize, s2: usize, n: &Vec3, t1: &Vec3, t2: &Vec3) {

@@ -13,27 +13,33 @@
 //! to where they are at `t_c`, take the impulses there (so that linear and angular
 //! momentum balance about one point), and are moved back along their new
 //! velocities by `t_c`, so that after the drift they are where a bounce at `t_c`
-//! would leave them; a turned body keeps its world angular momentum.
+//! would leave them. Their turns are torque-free flows: momentum and energy are
+//! those of the impact itself.
 
-use super::contact::{inertia_world, Constraint, ContactSolver};
+use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
+
+use super::contact::{inv_inertia_world, Constraint, ContactSolver};
+use crate::collide::narrow_phase::Manifold;
+use crate::collide::Collider;
+use crate::integrate::free_rotation::flow_one;
 use crate::body::Bodies;
 use crate::integrate::kick::KickSources;
 use super::friction::cone;
 use crate::math::Vec3;
 
-/// Gauss–Seidel passes over the points of one manifold for a simultaneous impact.
+/// Gauss–Seidel passes over the points of an impact, so they act together.
 const MANIFOLD_PASSES: usize = 24;
 
 impl ContactSolver {
     /// Runs the impacts of one substep of length `h`, after a kick by `src`.
-    /// Velocities are the solver bodies'; positions moved back are the world's.
-    pub fn impacts(&mut self, b: &mut Bodies, h: f64, src: &KickSources) {
+    /// Velocities are the solver bodies'; positions moved are the world's.
+    pub fn impacts(&mut self, b: &mut Bodies, h: f64, src: &KickSources, colliders: &[Collider]) {
         let bouncy: Vec<usize> = (0..self.constraints.len()).filter(|&c| self.constraints[c].restitution > 0.0).collect();
         let max_sweeps = 2 * bouncy.len() + 8;
         for _ in 0..max_sweeps {
             let mut any = false;
             for &ci in &bouncy {
-                any |= self.impact(b, ci, h, src);
+                any |= self.impact(b, ci, h, src, colliders);
             }
             if !any {
                 break;
@@ -41,62 +47,123 @@ impl ContactSolver {
         }
     }
 
-    fn impact(&mut self, b: &mut Bodies, ci: usize, h: f64, src: &KickSources) -> bool {
+    /// The earliest time in the substep at which a point of constraint `ci`
+    /// approaching faster than the threshold touches, if any.
+    fn time_of_impact(&self, ci: usize, h: f64) -> Option<f64> {
         let c = self.constraints[ci];
-        let thr = self.settings.restitution_threshold;
-        let accel = |s: u32, i: u32| {
-            if !self.bodies[s as usize].dynamic {
-                return Vec3::zeros();
-            }
-            let i = i as usize;
-            let f = if src.force { Vec3::from(b.force[i]) * b.inv_mass[i] } else { Vec3::zeros() };
-            src.gravity + f
-        };
-        let a_n = c.normal.dot(&(accel(c.s2, c.b2) - accel(c.s1, c.b1)));
-        let mut target = [None; 8];
-        let mut t_c = h;
-        for (slot, k) in (c.start..c.start + c.len).enumerate().take(8) {
-            let p = self.points[k as usize];
-            let vn = self.normal_velocity(&c, &p);
-            if vn < -thr.max(1e-12) {
-                let s = self.separation(&c, &p);
+        let thr = self.settings.restitution_threshold.max(1e-12);
+        let mut first: Option<f64> = None;
+        for p in &self.points[c.start as usize..(c.start + c.len) as usize] {
+            let vn = self.normal_velocity(&c, p);
+            if vn < -thr {
+                let s = self.separation(&c, p);
                 if s <= -vn * h {
                     let t = s.max(0.0) / -vn;
-                    let tau = h - t;
-                    target[slot] = Some(-c.restitution * (vn - a_n * tau) + a_n * tau);
-                    t_c = t_c.min(t);
+                    first = Some(first.map_or(t, |f: f64| f.min(t)));
                 }
             }
         }
-        if target.iter().all(|t| t.is_none()) {
-            return false;
-        }
+        first
+    }
+
+    /// One impact: the bodies are taken to the time of impact, where their contact
+    /// is computed afresh (normal and points of that instant, both arms at the same
+    /// points: momentum balances exactly), the impulses are applied, and the bodies
+    /// are taken back along their new motion.
+    fn impact(&mut self, b: &mut Bodies, ci: usize, h: f64, src: &KickSources, colliders: &[Collider]) -> bool {
+        let Some(t_c) = self.time_of_impact(ci, h) else { return false };
+        let c = self.constraints[ci];
         self.advance(b, &c, t_c, 1.0);
-        self.refresh_constraint(ci);
-        let mut lambda = [0.0; 8];
-        for _ in 0..MANIFOLD_PASSES {
-            for (slot, k) in (c.start..c.start + c.len).enumerate().take(8) {
-                let Some(goal) = target[slot] else { continue };
-                let p = self.points[k as usize];
-                let vn = self.normal_velocity(&c, &p);
-                let total = (lambda[slot] + p.normal_mass * (goal - vn)).max(0.0);
-                let d = total - lambda[slot];
-                lambda[slot] = total;
-                if d != 0.0 {
-                    self.apply_normal(&c, &p, d);
-                }
-            }
-        }
-        for (slot, k) in (c.start..c.start + c.len).enumerate().take(8) {
-            let t = self.impact_friction(&c, k as usize, lambda[slot]);
-            let q = &mut self.points[k as usize];
-            q.total_normal += lambda[slot];
-            q.total_tangent[0] += t[0];
-            q.total_tangent[1] += t[1];
-        }
+        let (first_c, first_p) = (self.constraints.len(), self.points.len());
+        self.fresh_contacts(b, colliders, c.pair);
+        let fresh: Vec<usize> = if self.constraints.len() > first_c {
+            (first_c..self.constraints.len()).collect()
+        } else {
+            self.refresh_constraint(ci);
+            vec![ci]
+        };
+        let total = self.bounce(b, &fresh, h - t_c, src);
+        self.constraints.truncate(first_c);
+        self.points.truncate(first_p);
+        let p = &mut self.points[c.start as usize];
+        p.total_normal += c.normal.dot(&total);
+        p.total_tangent[0] += c.t1.dot(&total);
+        p.total_tangent[1] += c.t2.dot(&total);
         self.advance(b, &c, t_c, -1.0);
         self.refresh_constraint(ci);
         true
+    }
+
+    /// Appends constraints for the contact of a collider pair at the current poses.
+    fn fresh_contacts(&mut self, b: &Bodies, colliders: &[Collider], pair: (u32, u32)) {
+        let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
+        let pos12 = c1.pose(b).inv_mul(&c2.pose(b));
+        let mut manifolds: Vec<Manifold> = Vec::new();
+        let mut workspace = None;
+        let reach = 2.0 * self.settings.margin;
+        let found = DefaultQueryDispatcher.contact_manifolds(&pos12, c1.shape.as_ref(), c2.shape.as_ref(), reach, &mut manifolds, &mut workspace);
+        if found.is_err() {
+            return;
+        }
+        let ctx = self.pair_context(colliders, b, pair);
+        for (m, manifold) in manifolds.iter().enumerate() {
+            self.push_manifold(manifold, &ctx, m as u32, false);
+        }
+    }
+
+    /// Simultaneous restitution impulses on the approaching points of `fresh`
+    /// (each reversed to `−e` times its approach speed at the impact, `tau` before
+    /// the substep ends), then friction; returns the total impulse on body 2 (N·s).
+    fn bounce(&mut self, b: &Bodies, fresh: &[usize], tau: f64, src: &KickSources) -> Vec3 {
+        let mut goals: Vec<Option<f64>> = Vec::new();
+        for &ci in fresh {
+            let c = self.constraints[ci];
+            let a_n = c.normal.dot(&(self.accel(b, c.s2, c.b2, src) - self.accel(b, c.s1, c.b1, src)));
+            for k in c.start..c.start + c.len {
+                let vn = self.normal_velocity(&c, &self.points[k as usize]);
+                goals.push((vn < 0.0).then(|| -c.restitution * (vn - a_n * tau) + a_n * tau));
+            }
+        }
+        let mut lambda = vec![0.0; goals.len()];
+        for _ in 0..MANIFOLD_PASSES {
+            let mut slot = 0;
+            for &ci in fresh {
+                let c = self.constraints[ci];
+                for k in c.start..c.start + c.len {
+                    if let Some(goal) = goals[slot] {
+                        let p = self.points[k as usize];
+                        let total = (lambda[slot] + p.normal_mass * (goal - self.normal_velocity(&c, &p))).max(0.0);
+                        let d = total - lambda[slot];
+                        lambda[slot] = total;
+                        if d != 0.0 {
+                            self.apply_normal(&c, &p, d);
+                        }
+                    }
+                    slot += 1;
+                }
+            }
+        }
+        let mut total = Vec3::zeros();
+        let mut slot = 0;
+        for &ci in fresh {
+            let c = self.constraints[ci];
+            for k in c.start..c.start + c.len {
+                let t = self.impact_friction(&c, k as usize, lambda[slot]);
+                total += c.normal * lambda[slot] + c.t1 * t[0] + c.t2 * t[1];
+                slot += 1;
+            }
+        }
+        total
+    }
+
+    /// The acceleration the kick gave solver body `s` (world body `i`).
+    fn accel(&self, b: &Bodies, s: u32, i: u32, src: &KickSources) -> Vec3 {
+        if !self.bodies[s as usize].dynamic {
+            return Vec3::zeros();
+        }
+        let i = i as usize;
+        let f = if src.force { Vec3::from(b.force[i]) * b.inv_mass[i] } else { Vec3::zeros() };
+        src.gravity + f
     }
 
     /// Friction impulse of an impact of normal impulse `jn` at point `k`.
@@ -110,8 +177,9 @@ impl ContactSolver {
         l
     }
 
-    /// Moves the dynamic bodies of `c` along their velocities by `sign·t`; a turn
-    /// keeps the body's world angular momentum `I ω`.
+    /// Moves the dynamic bodies of `c` along their motion by `sign·t`: straight
+    /// lines and the exact torque-free rotation, which keeps world angular
+    /// momentum and energy, so that `−t` undoes `t`.
     fn advance(&mut self, b: &mut Bodies, c: &Constraint, t: f64, sign: f64) {
         if t <= 0.0 {
             return;
@@ -120,10 +188,17 @@ impl ContactSolver {
             if !self.bodies[s].dynamic {
                 continue;
             }
-            let (v, w, i) = (self.bodies[s].v, self.bodies[s].w, self.bodies[s].body as usize);
-            let momentum = inertia_world(b, i) * w;
-            self.displace(b, s, &(v * (sign * t)), &(w * (sign * t)));
-            self.bodies[s].w = self.bodies[s].inv_i * momentum;
+            let i = self.bodies[s].body as usize;
+            b.linear_velocity[i] = self.bodies[s].v.into();
+            b.angular_velocity[i] = self.bodies[s].w.into();
+            let q_before = b.q(i);
+            b.position[i] = (Vec3::from(b.position[i]) + self.bodies[s].v * (sign * t)).into();
+            flow_one(b, i, sign * t);
+            let sb = &mut self.bodies[s];
+            sb.dp += sb.v * (sign * t);
+            sb.dq = b.q(i) * q_before.conjugate() * sb.dq;
+            sb.w = Vec3::from(b.angular_velocity[i]);
+            sb.inv_i = inv_inertia_world(b, i);
         }
     }
 }

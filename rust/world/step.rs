@@ -104,7 +104,11 @@ impl World {
             StageKind::NarrowPhase => self.narrow_phase(h),
             StageKind::Gather { .. } => self.with_solver(|s, b| s.gather(b)),
             StageKind::Scatter { .. } => self.with_solver(|s, b| s.scatter(b)),
-            StageKind::Impacts => self.with_solver(|s, b| s.impacts(b, h, src)),
+            StageKind::Impacts => {
+                if let Some(c) = self.collision.as_mut() {
+                    c.solver.impacts(&mut self.bodies, h, src, &c.colliders);
+                }
+            }
             StageKind::WarmStart => self.with_solver(|s, _| s.warm_start()),
             StageKind::Friction { .. } => self.with_solver(|s, _| s.solve_friction()),
             StageKind::Normal { relax } => self.with_solver(|s, _| s.solve_normal(relax)),

@@ -124,17 +124,8 @@ def angle_deg(a, b):
 
 GEOMETRY = [True, False]
 GEOMETRY_IDS = ["tilted plane", "tilted gravity"]
-XFAIL_DIRECTION = pytest.mark.xfail(
-    strict=True,
-    reason="a sliding box's friction is wrong: each corner's sliding impulse points along the block solve's "
-    "λ − K_t⁻¹ v_t (the corner's anisotropic tangent mass), not along −v_t, so the 4 corner forces fan out "
-    "±20° around the slip, sum to less than μN along it, and yaw the box; at the default 1 iteration the "
-    "clamp also uses the normal impulse of before the relax pass (|λt|/λn = 0.33-0.38 for μ = 0.4). "
-    "Measured numbers in the test's comment",
-)
 
 
-@XFAIL_DIRECTION
 @pytest.mark.parametrize("tilted_plane", GEOMETRY, ids=GEOMETRY_IDS)
 @pytest.mark.parametrize("degrees", [30.0, 45.0])
 def test_block_slides_down_an_incline_with_the_coulomb_acceleration(degrees, tilted_plane):
@@ -165,15 +156,7 @@ def test_frictionless_block_slides_with_g_sin_theta(tilted_plane):
     [
         0.5,
         0.75,
-        pytest.param(
-            0.9,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="placed at rest at tan θ = 0.9 μ the block slips 23.9 mm before it sticks (sleep on "
-                "or off, either geometry; 0.05 mm at 0.5 μ and 0.75 μ): the first substeps solve friction "
-                "with no normal impulse yet. Once stuck it does not creep (< 1e-5 mm in the last 9 s)",
-            ),
-        ),
+        0.9,
     ],
 )
 def test_block_below_the_friction_angle_does_not_creep(fraction, tilted_plane, sleep):
@@ -207,7 +190,6 @@ def test_resting_block_on_an_incline_reports_friction_balancing_gravity(fraction
 # ---------------------------------------------------------------------------
 
 
-@XFAIL_DIRECTION
 @pytest.mark.parametrize("mu", [0.2, 0.5])
 def test_block_slides_to_rest_after_v0_squared_over_two_mu_g(mu):
     # Measured: 2.526 m for 2.294 m (μ = 0.2, +10.1 %), 1.043 m for 0.917 m (μ = 0.5,
@@ -218,8 +200,14 @@ def test_block_slides_to_rest_after_v0_squared_over_two_mu_g(mu):
     h = history(world, block, t_stop + 0.5)
     d = np.linalg.norm(h["p"][-1, :2] - h["p"][0, :2])
     assert abs(d - v0**2 / (2 * mu * G)) <= v0 * H
-    stopped = h["t"][np.argmax(np.linalg.norm(h["v"], axis=1) <= 1e-6 * v0)]
-    assert t_stop <= stopped <= t_stop + DT
+    # Stopped: below 1e-3 v0. While it slides, friction's torque shifts the load to
+    # the leading edge of the compliant contact; when it stops the box rocks back on
+    # it (measured ≤ 2.3e-4 m/s, decaying with the contact's damping), so "at rest"
+    # means slower than that rocking, not zero.
+    speed = np.linalg.norm(h["v"], axis=1)
+    stopped = h["t"][np.argmax(speed <= 1e-3 * v0)]
+    assert t_stop - DT <= stopped <= t_stop + DT
+    assert np.max(speed[h["t"] > t_stop + DT]) <= 1e-3 * v0
 
 
 # ---------------------------------------------------------------------------
@@ -233,7 +221,6 @@ DIAGONAL = [(10.0, 0.0), (30.0, 0.0), (60.0, 0.0), (30.0, 20.0), (60.0, 20.0)]
 DIAGONAL_IDS = [f"{a:g}deg yaw{y:g}" for a, y in DIAGONAL]
 
 
-@XFAIL_DIRECTION
 @pytest.mark.parametrize("degrees,yaw", DIAGONAL, ids=DIAGONAL_IDS)
 def test_diagonal_slide_decelerates_against_its_velocity(degrees, yaw):
     # Measured: the deceleration is 5.0°-13.8° off −v and the velocity turns by
@@ -250,7 +237,6 @@ def test_diagonal_slide_decelerates_against_its_velocity(degrees, yaw):
     np.testing.assert_allclose(np.linalg.norm(acc[sel, :2], axis=1), mu * G, rtol=A_TOL)
 
 
-@XFAIL_DIRECTION
 @pytest.mark.parametrize("degrees,yaw", DIAGONAL, ids=DIAGONAL_IDS)
 def test_diagonal_push_accelerates_along_the_push(degrees, yaw):
     # Measured: 1.4°-6.7° off the push (30°, yaw 0: 5.9°-6.7°), |a| 2-21 % high, and
@@ -272,13 +258,6 @@ def test_diagonal_push_accelerates_along_the_push(degrees, yaw):
 # ---------------------------------------------------------------------------
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="at the default 1 iteration the sphere's friction is 12-20 % weak (|λt|/λn = 0.446 for μ = 0.5: "
-    "friction is clamped with the normal impulse of before the relax pass): t* is 5.1 dt (μ 0.2, 1 m/s) and "
-    "6.1 dt (μ 0.5, 3 m/s) late, the slip distance +3.2 / +11.2 mm. With iterations=4 the slip distance "
-    "passes (-0.1 / -0.3 mm) but t* of (0.5, 3 m/s) is still 1.06 dt late",
-)
 @pytest.mark.parametrize("mu,v0", [(0.2, 1.0), (0.5, 3.0)])
 def test_sphere_launched_sliding_starts_rolling_at_t_star(mu, v0):
     r = 0.1
@@ -292,8 +271,15 @@ def test_sphere_launched_sliding_starts_rolling_at_t_star(mu, v0):
     assert t_star <= h["t"][k] <= t_star + DT
     # Rolling: the contact point's own velocity is that of the penetration the soft
     # contact keeps (the anchor sits δ/2 inside each surface): |v − ω r| <= ω δ.
+    # The soft contact's sag under a steady load: the push-out rate times the
+    # penetration balances the spring's leak, δ = g h / (a2 · bias_rate) with
+    # h = DT/4, ω = 2π·30 Hz, ζ = 10, a2 = hω(2ζ + hω): 0.28 mm. Rolling shifts the
+    # load a little; allow 1.5 δ.
     depth = world.contacts()["depth"].max()
-    assert 0 < depth < 2e-4 * (r / 0.1)
+    h_sub, omega, zeta = H, 2 * np.pi * 30.0, 10.0
+    a1 = 2 * zeta + h_sub * omega
+    sag = G * h_sub / (h_sub * omega * a1 * (omega / a1))
+    assert 0 < depth < 1.5 * sag
     after = h["t"] > t_star + DT
     assert np.max(np.abs(slip[after])) <= np.max(h["w"][after, 1]) * depth
     # v* = 5 v0 / 7: a lever arm short by δ/2 changes it by (2/7) δ/r < 1e-3.
@@ -307,15 +293,8 @@ def test_sphere_launched_sliding_starts_rolling_at_t_star(mu, v0):
 # Static and dynamic friction
 # ---------------------------------------------------------------------------
 
-XFAIL_STATIC = pytest.mark.xfail(
-    strict=True,
-    reason="static friction never catches a body placed at rest: the first substep solves friction with "
-    "no normal impulse, the body slips, and the impulse that would stop it (2 F h) exceeds μs N h, so it "
-    "slides on at μk",
-)
 
 
-@XFAIL_STATIC
 def test_static_friction_holds_a_push_between_mu_k_and_mu_s():
     # F = 0.5 m g with μk = 0.4 < 0.5 < μs = 0.6: nothing moves. Measured: slides 2.65 m
     # in 2 s (2.34 m with iterations=4).
@@ -325,7 +304,6 @@ def test_static_friction_holds_a_push_between_mu_k_and_mu_s():
     assert np.max(np.linalg.norm(h["p"] - h["p"][0], axis=1)) < 1e-3  # the no-creep bar
 
 
-@XFAIL_DIRECTION
 def test_kinetic_friction_acts_beyond_mu_s():
     # F = 0.7 m g > μs m g: slides with a = F/m − μk g = 0.3 g. Measured: 3.223 m/s² for
     # 2.943 (+9.5 %); iterations=4: +8.5 %.
@@ -337,7 +315,6 @@ def test_kinetic_friction_acts_beyond_mu_s():
     assert abs(a - 0.3 * G) <= A_TOL * 0.3 * G
 
 
-@XFAIL_STATIC
 def test_static_friction_holds_a_block_on_an_incline_steeper_than_mu_k():
     # tan θ = 0.5 between μk = 0.4 and μs = 0.6. Measured: slides 54.4 m in 10 s (53.1 m
     # with iterations=4).
@@ -346,7 +323,6 @@ def test_static_friction_holds_a_block_on_an_incline_steeper_than_mu_k():
     assert np.max(np.abs(x)) < 1e-3
 
 
-@XFAIL_DIRECTION
 def test_launched_block_keeps_sliding_with_mu_k_on_that_incline():
     # Moving, it feels μk: a = g (sin θ − μk cos θ) > 0. Measured: 1.128 m/s² for 0.877
     # (+28.5 %); iterations=4: +25.4 %.
@@ -378,12 +354,6 @@ def test_friction_combines_by_the_geometric_mean(mu_body, mu_floor):
         np.testing.assert_allclose(runs[0][key], runs[1][key], rtol=0, atol=1e-12)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="a sliding box's points are off the cone: at the default 1 iteration inside it, |λt|/λn = "
-    "0.33-0.38 for μ = 0.4 and 0.62-0.77 for μ = 0.8 (friction clamped with the normal impulse of before "
-    "the relax pass); with iterations=4 0.3999-0.4019 and 0.797-0.809 (outside it by up to 1.1 %)",
-)
 @pytest.mark.parametrize("mu", [0.4, 0.8])
 def test_sliding_contact_points_sit_on_the_cone(mu):
     # While a box slides every contact point's friction impulse is on its cone,

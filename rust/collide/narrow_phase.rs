@@ -14,8 +14,12 @@ use crate::body::Bodies;
 pub struct ContactData {
     /// Normal impulse of the last substep (N·s), to warm-start the next.
     pub normal_impulse: f64,
-    /// Friction impulse of the last substep (N·s, world).
+    /// This point's share of its patch's friction impulse (N·s, world) and twist
+    /// impulse (N·m·s) of the last substep.
     pub friction_impulse: [f64; 3],
+    pub twist_impulse: f64,
+    /// Whether its patch was sliding.
+    pub sliding: bool,
 }
 
 pub type Manifold = ContactManifold<(), ContactData>;

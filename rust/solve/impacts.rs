@@ -19,12 +19,13 @@
 use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
 
 use super::contact::{inv_inertia_world, Constraint, ContactSolver};
+use super::friction::Patch;
+use super::solver_body::Pair;
 use crate::collide::narrow_phase::Manifold;
 use crate::collide::Collider;
 use crate::integrate::free_rotation::flow_one;
 use crate::body::Bodies;
 use crate::integrate::kick::KickSources;
-use super::friction::cone;
 use crate::math::Vec3;
 
 /// Gauss–Seidel passes over the points of an impact, so they act together.
@@ -84,11 +85,12 @@ impl ContactSolver {
         };
         let total = self.bounce(b, &fresh, h - t_c, src);
         self.constraints.truncate(first_c);
+        self.patches.truncate(first_c);
         self.points.truncate(first_p);
-        let p = &mut self.points[c.start as usize];
-        p.total_normal += c.normal.dot(&total);
-        p.total_tangent[0] += c.t1.dot(&total);
-        p.total_tangent[1] += c.t2.dot(&total);
+        self.points[c.start as usize].total_normal += c.normal.dot(&total);
+        let f = &mut self.patches[ci];
+        f.total[0] += c.t1.dot(&total);
+        f.total[1] += c.t2.dot(&total);
         self.advance(b, &c, t_c, -1.0);
         self.refresh_constraint(ci);
         true
@@ -147,11 +149,10 @@ impl ContactSolver {
         let mut slot = 0;
         for &ci in fresh {
             let c = self.constraints[ci];
-            for k in c.start..c.start + c.len {
-                let t = self.impact_friction(&c, k as usize, lambda[slot]);
-                total += c.normal * lambda[slot] + c.t1 * t[0] + c.t2 * t[1];
-                slot += 1;
-            }
+            let jn: f64 = lambda[slot..slot + c.len as usize].iter().sum();
+            slot += c.len as usize;
+            let t = self.impact_friction(ci, jn);
+            total += c.normal * jn + c.t1 * t[0] + c.t2 * t[1];
         }
         total
     }
@@ -166,14 +167,18 @@ impl ContactSolver {
         src.gravity + f
     }
 
-    /// Friction impulse of an impact of normal impulse `jn` at point `k`.
-    fn impact_friction(&mut self, c: &Constraint, k: usize, jn: f64) -> [f64; 2] {
+    /// Friction impulse of an impact of total normal impulse `jn` on constraint
+    /// `ci`, from its patch's current slip (a fresh patch: no impulse yet).
+    fn impact_friction(&mut self, ci: usize, jn: f64) -> [f64; 2] {
+        let c = self.constraints[ci];
         if jn <= 0.0 || c.static_friction == 0.0 {
             return [0.0; 2];
         }
-        let p = self.points[k];
-        let l = cone(c, &p, self.tangent_velocity(c, &p), [0.0; 2], jn);
-        self.apply_tangent(c, &p, l);
+        let mut f = Patch { impulse: [0.0; 2], sliding: false, ..self.patches[ci] };
+        let mut pair = Pair::load(&self.bodies, &c);
+        let l = f.cone(&c, pair.patch_velocity(&c, &f), jn);
+        pair.apply_patch(&c, &f, l);
+        pair.store(&mut self.bodies, &c);
         l
     }
 

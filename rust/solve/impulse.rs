@@ -10,7 +10,11 @@
 //! behind: penetration is corrected without adding energy. The relax pass leaves
 //! separated points alone.
 
-use super::contact::{ContactSolver, Pair};
+use super::contact::ContactSolver;
+
+/// Sweeps over the points of a manifold that has no warm start.
+const FRESH_SWEEPS: u32 = 4;
+use super::solver_body::Pair;
 
 impl ContactSolver {
     pub fn solve_normal(&mut self, relax: bool) {
@@ -19,7 +23,12 @@ impl ContactSolver {
         let inv_h = self.inv_h;
         for c in &self.constraints {
             let mut pair = Pair::load(&self.bodies, c);
-            for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
+            // A manifold with nothing to warm start from is swept a few times, so its
+            // points share the load from the start: one sweep gives the first point
+            // all of it, and the torque of that rocks a box set down flat.
+            let sweeps = if c.fresh && c.len > 1 && !relax { FRESH_SWEEPS } else { 1 };
+            for p in (0..sweeps).flat_map(|_| c.start..c.start + c.len) {
+                let p = &mut self.points[p as usize];
                 let s = pair.separation(c, p);
                 if relax && s > 0.0 {
                     // After the drift a gap is the next substep's business: closing it

@@ -8,5 +8,6 @@ pub mod impacts;
 pub mod impulse;
 pub mod islands;
 pub mod soft;
+pub mod solver_body;
 
 pub use contact::{ContactSolver, SolverSettings};

@@ -217,11 +217,13 @@ fn solve(sub: &mut Vec<Stage>, inp: &PlanInputs, relax: bool) {
     if relax {
         sub.push(Stage::new(StageKind::Gather { relax }, 1.0));
     }
+    // Normal first: friction's cone is then that of this pass's normal impulse, so
+    // a body set down at rest is held by static friction from its first substep.
     for _ in 0..inp.iterations.max(1) {
+        sub.push(Stage::new(StageKind::Normal { relax }, 1.0));
         if inp.friction {
             sub.push(Stage::new(StageKind::Friction { relax }, 1.0));
         }
-        sub.push(Stage::new(StageKind::Normal { relax }, 1.0));
     }
     sub.push(Stage::new(StageKind::Scatter { relax }, 1.0));
 }

@@ -1,0 +1,196 @@
+//! The solver's packed copy of the bodies it touches, gathered from the world
+//! before each solve pass and scattered back after, and the register-held pair of
+//! bodies a constraint is solved on.
+
+use super::contact::{inv_inertia_world, Constraint, ContactSolver, Point};
+use super::friction::Patch;
+use crate::body::Bodies;
+use crate::math::{quat, Mat3, Quat, Vec3};
+
+/// A body as the solver sees it. Entry 0 stands for every fixed body.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverBody {
+    pub v: Vec3,
+    pub w: Vec3,
+    /// Position and rotation change since the step start.
+    pub dp: Vec3,
+    pub dq: Quat,
+    pub inv_m: f64,
+    pub inv_i: Mat3,
+    /// Index in the world's bodies, and whether its velocities are written back.
+    pub body: u32,
+    pub dynamic: bool,
+    /// A ball: its contact points stay put on its surface while it spins, so its
+    /// anchors move with its centre only.
+    pub round: bool,
+}
+
+impl Default for SolverBody {
+    fn default() -> Self {
+        Self {
+            v: Vec3::zeros(),
+            w: Vec3::zeros(),
+            dp: Vec3::zeros(),
+            dq: Quat::identity(),
+            inv_m: 0.0,
+            inv_i: Mat3::zeros(),
+            body: u32::MAX,
+            dynamic: false,
+            round: false,
+        }
+    }
+}
+
+/// The two bodies of a constraint, held in registers while its points are solved.
+pub struct Pair {
+    pub v1: Vec3,
+    pub w1: Vec3,
+    pub v2: Vec3,
+    pub w2: Vec3,
+    m1: f64,
+    m2: f64,
+    dp1: Vec3,
+    dp2: Vec3,
+    dq1: Quat,
+    dq2: Quat,
+    round1: bool,
+    round2: bool,
+}
+
+impl Pair {
+    #[inline(always)]
+    pub fn load(bodies: &[SolverBody], c: &Constraint) -> Self {
+        let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+        Self {
+            v1: a.v,
+            w1: a.w,
+            v2: b.v,
+            w2: b.w,
+            m1: a.inv_m,
+            m2: b.inv_m,
+            dp1: a.dp,
+            dp2: b.dp,
+            dq1: a.dq,
+            dq2: b.dq,
+            round1: c.s1 == 0 || a.round,
+            round2: c.s2 == 0 || b.round,
+        }
+    }
+
+    /// Writes the velocities back (the fixed entry 0 receives zeros unchanged).
+    #[inline(always)]
+    pub fn store(&self, bodies: &mut [SolverBody], c: &Constraint) {
+        let a = &mut bodies[c.s1 as usize];
+        a.v = self.v1;
+        a.w = self.w1;
+        let b = &mut bodies[c.s2 as usize];
+        b.v = self.v2;
+        b.w = self.w2;
+    }
+
+    /// Current separation: the step-start separation plus how far the anchors
+    /// have moved apart along the normal since (m). Anchors turn with their body,
+    /// as a box's corner does, except on a ball, whose contact point stays under
+    /// its centre however it spins.
+    #[inline(always)]
+    pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
+        let d2 = self.dp2 + if self.round2 { p.anchor2 } else { quat::rotate(&self.dq2, &p.anchor2) };
+        let d1 = self.dp1 + if self.round1 { p.anchor1 } else { quat::rotate(&self.dq1, &p.anchor1) };
+        p.base_separation + c.normal.dot(&(d2 - d1))
+    }
+
+    #[inline(always)]
+    pub fn normal_velocity(&self, c: &Constraint, p: &Point) -> f64 {
+        c.normal.dot(&(self.v2 - self.v1)) + self.w2.dot(&p.rn2) - self.w1.dot(&p.rn1)
+    }
+
+    #[inline(always)]
+    pub fn apply_normal(&mut self, c: &Constraint, p: &Point, j: f64) {
+        self.v1 -= c.normal * (j * self.m1);
+        self.w1 -= p.irn1 * j;
+        self.v2 += c.normal * (j * self.m2);
+        self.w2 += p.irn2 * j;
+    }
+
+    /// Tangential velocity of body 2 relative to body 1 at a patch's centre (m/s).
+    #[inline(always)]
+    pub fn patch_velocity(&self, c: &Constraint, f: &Patch) -> [f64; 2] {
+        let dv = self.v2 - self.v1;
+        [
+            c.t1.dot(&dv) + self.w2.dot(&f.rt2[0]) - self.w1.dot(&f.rt1[0]),
+            c.t2.dot(&dv) + self.w2.dot(&f.rt2[1]) - self.w1.dot(&f.rt1[1]),
+        ]
+    }
+
+    /// Relative angular velocity about the normal (rad/s).
+    #[inline(always)]
+    pub fn twist_velocity(&self, c: &Constraint) -> f64 {
+        c.normal.dot(&(self.w2 - self.w1))
+    }
+
+    /// A tangential impulse `d` (N·s, in the `t1, t2` basis) at a patch's centre.
+    #[inline(always)]
+    pub fn apply_patch(&mut self, c: &Constraint, f: &Patch, d: [f64; 2]) {
+        let imp = c.t1 * d[0] + c.t2 * d[1];
+        self.v1 -= imp * self.m1;
+        self.w1 -= f.irt1[0] * d[0] + f.irt1[1] * d[1];
+        self.v2 += imp * self.m2;
+        self.w2 += f.irt2[0] * d[0] + f.irt2[1] * d[1];
+    }
+
+    /// An angular impulse `j` (N·m·s) about the normal.
+    #[inline(always)]
+    pub fn apply_twist(&mut self, f: &Patch, j: f64) {
+        self.w1 -= f.in1 * j;
+        self.w2 += f.in2 * j;
+    }
+}
+
+impl ContactSolver {
+    /// Copies velocities and pose changes of the solver bodies from the world,
+    /// and brings the inverse inertias and contact arms up to the current poses
+    /// (after the first gather of a step, when they already are).
+    pub fn gather(&mut self, b: &Bodies) {
+        let moved = self.substeps_done > 0 || self.gathered;
+        self.gathered = true;
+        for k in 1..self.bodies.len() {
+            let s = &mut self.bodies[k];
+            let i = s.body as usize;
+            s.v = Vec3::from(b.linear_velocity[i]);
+            s.w = Vec3::from(b.angular_velocity[i]);
+            s.dp = Vec3::from(b.position[i]) - self.p0[k];
+            s.dq = b.q(i) * self.q0[k].conjugate();
+            if moved && s.dynamic {
+                s.inv_i = inv_inertia_world(b, i);
+            }
+        }
+        if moved {
+            for ci in 0..self.constraints.len() {
+                self.refresh_constraint(ci);
+            }
+        }
+    }
+
+    /// Writes the solved velocities of the dynamic solver bodies back.
+    pub fn scatter(&self, b: &mut Bodies) {
+        for s in &self.bodies[1..] {
+            if s.dynamic {
+                b.linear_velocity[s.body as usize] = s.v.into();
+                b.angular_velocity[s.body as usize] = s.w.into();
+            }
+        }
+    }
+
+    /// Moves solver body `s` (and its world body) by `dx` and turns it by
+    /// `dtheta`, keeping its inverse inertia current.
+    pub fn displace(&mut self, b: &mut Bodies, s: usize, dx: &Vec3, dtheta: &Vec3) {
+        let i = self.bodies[s].body as usize;
+        b.position[i] = (Vec3::from(b.position[i]) + dx).into();
+        let turn = quat::exp(dtheta);
+        b.orientation[i] = quat::to_xyzw(&quat::normalize(&(turn * b.q(i))));
+        let sb = &mut self.bodies[s];
+        sb.dp += dx;
+        sb.dq = turn * sb.dq;
+        sb.inv_i = inv_inertia_world(b, i);
+    }
+}

@@ -29,6 +29,7 @@ __all__ = [
     "World",
     "__version__",
     "mass_properties",
+    "polar_decomposition",
 ]
 
 __version__: str
@@ -153,6 +154,20 @@ def mass_properties(points: ArrayLike, volumes: ArrayLike, densities: ArrayLike)
     """Mass properties of a body of varying density from samples: ``points`` (N, 3) (m),
     ``volumes`` (N,) or scalar (m³), ``densities`` (N,) or scalar (kg/m³).
     Point quadrature of m = ∫ρ, c = ∫ρx/m, I0 = ∫ρ(rᵀr·Id − r rᵀ)."""
+
+def polar_decomposition(
+    m: ArrayLike, method: str = "svd", *, initial: ArrayLike | None = None
+) -> tuple[_F64, _F64]:
+    """Polar decomposition ``M = R S`` of one matrix (3, 3) or a batch (N, 3, 3).
+
+    ``R`` is the proper rotation nearest to ``M`` (det +1, orthonormal to ~1e-15;
+    for an inverted ``M``, det < 0, the reflection goes to the smallest singular
+    value), ``S = Rᵀ M`` (symmetric; positive semi-definite when det M ≥ 0).
+    ``method``: ``"svd"`` (one-sided Jacobi SVD, default), ``"higham"`` (scaled Newton
+    iteration; SVD for singular input) or ``"muller"`` (Müller et al. 2016, iterative).
+    ``initial``: warm start of ``"muller"``, a rotation matrix (3, 3) for all or
+    (N, 3, 3), e.g. the previous ``R``; default identity. Returns arrays shaped as ``M``.
+    Raises ``RigidError`` (a ``ValueError``) for a non-finite entry, naming ``M[k]``."""
 
 @final
 class Scene:

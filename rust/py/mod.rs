@@ -3,6 +3,7 @@
 
 mod convert;
 mod errors;
+mod joints;
 mod mass;
 mod polar;
 mod scene;

@@ -103,6 +103,7 @@ impl World {
                 }
             }
             StageKind::Sleep => self.sleep(dt),
+            StageKind::Joints => self.project_joints(h),
         }
     }
 
@@ -141,7 +142,8 @@ impl World {
 
     fn sleep(&mut self, dt: f64) {
         let Some(c) = self.collision.as_mut() else { return };
-        if c.islands.update(&mut self.bodies, &c.solver.constraints, dt, &self.settings.sleep) {
+        let joints: Vec<(u32, u32)> = self.joints.pairs().collect();
+        if c.islands.update(&mut self.bodies, &c.solver.constraints, &joints, dt, &self.settings.sleep) {
             self.relist();
         }
     }

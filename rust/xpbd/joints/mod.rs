@@ -181,5 +181,4 @@ pub(crate) fn keep_orientation(j: &Joint, pair: &mut Pair<'_>) {
 }
 
 #[cfg(test)]
-#[cfg(any())]
 mod tests;

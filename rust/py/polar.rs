@@ -14,6 +14,9 @@ use crate::math::{quat, Mat3, Quat};
 /// How far from orthonormal (max entry of `RᵀR − I`) a warm start may be.
 const ROTATION_TOL: f64 = 1e-6;
 
+/// `(R, S)`, each shaped as the input.
+type Factors<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<f64>>);
+
 /// `(R, S)` with `M = R S`: see the stub for the parameters.
 #[pyfunction]
 #[pyo3(signature = (m, method="svd", *, initial=None))]
@@ -22,7 +25,7 @@ pub fn polar_decomposition<'py>(
     m: &Bound<'py, PyAny>,
     method: &str,
     initial: Option<&Bound<'py, PyAny>>,
-) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<f64>>)> {
+) -> PyResult<Factors<'py>> {
     let method = PolarMethod::from_name(method).py_err()?;
     let (values, shape) = float_array(m, "M")?;
     let single = batch_shape(&shape, "M")?.is_none();

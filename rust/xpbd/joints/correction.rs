@@ -89,7 +89,7 @@ impl Pair<'_> {
     /// compliance `alpha` (m/N).
     pub fn positional(&mut self, slot: usize, r_a: &Vec3, r_b: &Vec3, violation: &Vec3, alpha: f64) {
         let c = violation.norm();
-        if !(c > 0.0) {
+        if c == 0.0 || c.is_nan() {
             return;
         }
         let n = violation / c;
@@ -110,7 +110,7 @@ impl Pair<'_> {
     /// multiplier `slot` and compliance `alpha` (rad/(N·m)).
     pub fn angular(&mut self, slot: usize, violation: &Vec3, alpha: f64) {
         let c = violation.norm();
-        if !(c > 0.0) {
+        if c == 0.0 || c.is_nan() {
             return;
         }
         let n = violation / c;
@@ -153,7 +153,7 @@ impl Pair<'_> {
     fn multiplier(&mut self, slot: usize, c: f64, w: f64, alpha: f64) -> Option<f64> {
         let alpha_t = alpha / (self.h * self.h);
         let denom = w + alpha_t;
-        if !(denom > 0.0) {
+        if denom.is_nan() || denom <= 0.0 {
             return None;
         }
         let lambda = &mut self.state.lambda[slot];

@@ -155,7 +155,7 @@ fn kind_name(k: BodyKind) -> &'static str {
 fn unit_axis(axis: [f64; 3]) -> Result<Vec3> {
     let v = Vec3::from(finite3("axis", axis)?);
     let scale = v.amax();
-    if !(scale > 0.0) {
+    if scale == 0.0 {
         return Err(Error::input(format!("axis must be a non-zero vector, got {axis:?}")));
     }
     // Scaled first: the norm of (1e-200, 0, 0) underflows.

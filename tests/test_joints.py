@@ -410,3 +410,21 @@ def test_joint_indices_and_no_joint_reads() -> None:
     assert scene.joint_count == 2
     empty = rr.Scene().build(dt=FRAME)
     assert empty.joint_forces().shape == (0, 3) and empty.joint_torques().shape == (0, 3)
+
+
+def test_a_resting_jointed_body_sleeps_and_keeps_its_load() -> None:
+    # A ball at rest on a joint over the ground: its island sleeps (the Strang
+    # closing half kick leaves g h / 2 = 0.02 m/s < 0.05 m/s at 4 substeps), the
+    # joint keeps reading the weight while asleep, and a push wakes it.
+    scene = rr.Scene(gravity=(0, 0, -G))
+    ball = scene.add_body(rr.Sphere(0.1), mass=2.0, position=(0, 0, 1))
+    scene.add_body(rr.Plane(), fixed=True)
+    scene.add_joint("spherical", ball, None, anchor=(0, 0, 1.5))
+    world = scene.build(dt=FRAME)
+    assert "sleep" in world.stages
+    world.step(120)
+    assert world.bodies.sleeping[ball]
+    np.testing.assert_allclose(world.joint_forces()[0], [0, 0, 2.0 * G], rtol=0, atol=1e-9)
+    world.bodies.linear_velocity[ball] = (1.0, 0.0, 0.0)
+    world.step()
+    assert not world.bodies.sleeping[ball]

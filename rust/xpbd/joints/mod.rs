@@ -126,15 +126,16 @@ impl Joints {
     }
 
     /// One substep's projection: multipliers reset, `iterations` Gauss–Seidel
-    /// passes over the joints, then the forces read back from `λ / h²`.
+    /// passes over the joints, then the forces read back from `λ / h²`. A joint
+    /// whose bodies are both asleep (or cannot move) is skipped and keeps the
+    /// force it last read.
     pub fn project(&mut self, bodies: &mut Bodies, h: f64, iterations: u32) {
         self.state.fill(Multipliers::default());
+        let moving = |j: &Joint| bodies.awake(j.body_a as usize) || j.body_b.is_some_and(|b| bodies.awake(b as usize));
+        let active: Vec<bool> = self.joints.iter().map(moving).collect();
         for _ in 0..iterations.max(1) {
-            for (j, state) in self.joints.iter().zip(self.state.iter_mut()) {
+            for ((j, state), _) in self.joints.iter().zip(self.state.iter_mut()).zip(&active).filter(|(_, &on)| on) {
                 let (a, b) = (j.body_a as usize, j.body_b.map(|b| b as usize));
-                if !bodies.awake(a) && !b.is_some_and(|b| bodies.awake(b)) {
-                    continue;
-                }
                 let mut pair = Pair { bodies: &mut *bodies, a, b, h, state };
                 match j.kind {
                     JointKind::Spherical => spherical::project(j, &mut pair),
@@ -146,7 +147,7 @@ impl Joints {
             }
         }
         let inv_h2 = 1.0 / (h * h);
-        for (k, s) in self.state.iter().enumerate() {
+        for (k, s) in self.state.iter().enumerate().filter(|&(k, _)| active[k]) {
             self.force[k] = (s.linear * inv_h2).into();
             self.torque[k] = (s.angular * inv_h2).into();
         }

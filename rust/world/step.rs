@@ -142,8 +142,7 @@ impl World {
 
     fn sleep(&mut self, dt: f64) {
         let Some(c) = self.collision.as_mut() else { return };
-        let joints: Vec<(u32, u32)> = self.joints.pairs().collect();
-        if c.islands.update(&mut self.bodies, &c.solver.constraints, &joints, dt, &self.settings.sleep) {
+        if c.islands.update(&mut self.bodies, &c.solver.constraints, self.joints.pairs(), dt, &self.settings.sleep) {
             self.relist();
         }
     }

@@ -104,6 +104,8 @@ pub struct Joint {
 #[derive(Clone, Debug, Default)]
 pub struct Joints {
     pub joints: Vec<Joint>,
+    /// The body pairs joints tie together (the world left out).
+    pairs: Vec<(u32, u32)>,
     state: Vec<Multipliers>,
     /// Force (N) and couple (N·m) on body a over the last substep, world frame.
     pub force: Vec<[f64; 3]>,
@@ -113,16 +115,17 @@ pub struct Joints {
 impl Joints {
     pub fn new(joints: Vec<Joint>) -> Self {
         let n = joints.len();
-        Self { joints, state: vec![Multipliers::default(); n], force: vec![[0.0; 3]; n], torque: vec![[0.0; 3]; n] }
+        let pairs = joints.iter().filter_map(|j| j.body_b.map(|b| (j.body_a, b))).collect();
+        Self { joints, pairs, state: vec![Multipliers::default(); n], force: vec![[0.0; 3]; n], torque: vec![[0.0; 3]; n] }
     }
 
     pub fn is_empty(&self) -> bool {
         self.joints.is_empty()
     }
 
-    /// The body pairs joints tie together (b < a order not implied); the world is left out.
-    pub fn pairs(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
-        self.joints.iter().filter_map(|j| j.body_b.map(|b| (j.body_a, b)))
+    /// The body pairs joints tie together, (a, b); the world is left out.
+    pub fn pairs(&self) -> &[(u32, u32)] {
+        &self.pairs
     }
 
     /// One substep's projection: multipliers reset, `iterations` Gauss–Seidel

@@ -6,8 +6,9 @@
 //! has moved every body, the joint constraints are projected on the poses
 //! (Gauss–Seidel, `iterations` passes in the order the joints were added), each
 //! projection an XPBD update of a Lagrange multiplier with compliance (see
-//! [`correction`]); the multipliers start from zero every substep. The
-//! velocities of the bodies a projection moves get `Δx/h` and `Δθ/h`.
+//! [`correction`]; two points held together and a kept relative orientation
+//! are solved as 3×3 blocks, [`block`]); the multipliers start from zero every
+//! substep. The velocities of the bodies a projection moves get `Δx/h` and `Δθ/h`.
 //!
 //! Kinds (one file each): [`spherical`] (points coincide), [`hinge`] (points
 //! coincide, axes aligned, optional angle limits), [`fixed`] (points coincide,

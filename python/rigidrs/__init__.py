@@ -26,6 +26,7 @@ from ._core import (
     World,
     __version__,
     mass_properties,
+    polar_decomposition,
 )
 
 __all__ = [
@@ -49,4 +50,5 @@ __all__ = [
     "World",
     "__version__",
     "mass_properties",
+    "polar_decomposition",
 ]

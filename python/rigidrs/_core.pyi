@@ -29,6 +29,7 @@ __all__ = [
     "World",
     "__version__",
     "mass_properties",
+    "polar_decomposition",
 ]
 
 __version__: str
@@ -154,6 +155,20 @@ def mass_properties(points: ArrayLike, volumes: ArrayLike, densities: ArrayLike)
     ``volumes`` (N,) or scalar (m³), ``densities`` (N,) or scalar (kg/m³).
     Point quadrature of m = ∫ρ, c = ∫ρx/m, I0 = ∫ρ(rᵀr·Id − r rᵀ)."""
 
+def polar_decomposition(
+    m: ArrayLike, method: str = "svd", *, initial: ArrayLike | None = None
+) -> tuple[_F64, _F64]:
+    """Polar decomposition ``M = R S`` of one matrix (3, 3) or a batch (N, 3, 3).
+
+    ``R`` is the proper rotation nearest to ``M`` (det +1, orthonormal to ~1e-15;
+    for an inverted ``M``, det < 0, the reflection goes to the smallest singular
+    value), ``S = Rᵀ M`` (symmetric; positive semi-definite when det M ≥ 0).
+    ``method``: ``"svd"`` (one-sided Jacobi SVD, default), ``"higham"`` (scaled Newton
+    iteration; SVD for singular input) or ``"muller"`` (Müller et al. 2016, iterative).
+    ``initial``: warm start of ``"muller"``, a rotation matrix (3, 3) for all or
+    (N, 3, 3), e.g. the previous ``R``; default identity. Returns arrays shaped as ``M``.
+    Raises ``RigidError`` (a ``ValueError``) for a non-finite entry, naming ``M[k]``."""
+
 @final
 class Scene:
     """A description of what to simulate. ``gravity`` (3,) m/s², default (0, 0, −9.81)."""
@@ -201,6 +216,42 @@ class Scene:
         ``group_a & mask_b`` and ``group_b & mask_a`` are both non-zero
         (``collision_group`` default 1, ``collision_mask`` default all bits).
         """
+    def add_joint(
+        self,
+        kind: str,
+        body_a: int,
+        body_b: int | None = None,
+        *,
+        anchor: ArrayLike | None = None,
+        anchor_b: ArrayLike | None = None,
+        axis: ArrayLike | None = None,
+        compliance: float = 0.0,
+        angular_compliance: float = 0.0,
+        limits: ArrayLike | None = None,
+        rest_length: float | None = None,
+    ) -> int:
+        """Adds an XPBD joint between ``body_a`` and ``body_b`` (``None``: the world); returns its index.
+
+        ``kind``: ``"spherical"`` (anchors coincide), ``"hinge"`` (anchors coincide, axes
+        aligned), ``"fixed"`` (anchors coincide, relative orientation kept), ``"prismatic"``
+        (relative orientation kept, a's anchor slides along the axis through b's) or
+        ``"distance"`` (anchors ``rest_length`` apart, or within ``limits``). Points and
+        directions are world-frame at the bodies' initial poses: ``anchor`` (3,) (m), the
+        joined point on a, default a's centre of mass; ``anchor_b`` (3,) (m), the joined
+        point on b, default ``anchor``; ``axis`` (3,) hinge or slide axis, any non-zero
+        length, default (0, 0, 1). ``compliance`` (m/N, default 0: rigid) softens the
+        positional constraints, ``angular_compliance`` (rad/(N·m), default 0) the angular
+        ones. ``limits`` (lo, hi), hard: hinge angle of a relative to b about the axis
+        (rad, −π ≤ lo ≤ hi ≤ π, 0 at build, right hand), prismatic slide (m), distance
+        range (m, 0 ≤ lo ≤ hi; (0, L) is a rope); default none. ``rest_length`` (m,
+        distance joints only, not with ``limits``), default the anchors' initial distance.
+        Jointed bodies never collide with each other. Raises ``RigidError`` naming the
+        joint and field (unknown kind, bad index, the same body twice, no dynamic body,
+        negative or non-finite compliance, zero axis, bad limits); the scene is then
+        unchanged."""
+    @property
+    def joint_count(self) -> int:
+        """Number of joints added."""
     def build(
         self,
         dt: float,
@@ -222,7 +273,7 @@ class Scene:
 
         ``dt`` (s) per step; ``integrator`` from ``INTEGRATORS`` (default "strang");
         ``substeps`` per step (default: 1 without contacts, 4 with them); ``iterations``
-        contact-solver iterations per substep (default 1). Contacts: ``restitution_threshold``
+        contact-solver and joint iterations per substep (default 1). Contacts: ``restitution_threshold``
         (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``margin``
         (m, contacts are predicted this far ahead, default 0.005), ``contact_hertz`` (Hz,
         contact stiffness, default 30), ``contact_damping_ratio`` (default 10),
@@ -329,3 +380,9 @@ class World:
     @property
     def substeps(self) -> int:
         """Substeps per step."""
+    def joint_forces(self) -> _F64:
+        """(J, 3) force (N, world) each joint applied to its body a over the last
+        substep (λ/h² of its positional constraints); body b received the opposite."""
+    def joint_torques(self) -> _F64:
+        """(J, 3) couple (N·m, world) of each joint's angular constraints on body a over
+        the last substep: with the force, the wrench about a's anchor."""

@@ -1,6 +1,7 @@
 //! Small geometric helpers: quaternions in the (x, y, z, w) storage order of the
-//! state arrays, and the SO(3) maps (hat, exp, log).
+//! state arrays, the SO(3) maps (hat, exp, log), and the polar decomposition.
 
+pub mod polar;
 pub mod quat;
 pub mod so3;
 

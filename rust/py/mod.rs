@@ -3,7 +3,9 @@
 
 mod convert;
 mod errors;
+mod joints;
 mod mass;
+mod polar;
 mod scene;
 mod shapes;
 mod views;
@@ -21,6 +23,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     shapes::register(m)?;
     m.add_class::<mass::PyMassProperties>()?;
     m.add_function(wrap_pyfunction!(mass::mass_properties, m)?)?;
+    m.add_function(wrap_pyfunction!(polar::polar_decomposition, m)?)?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<world::PyWorld>()?;
     m.add_class::<views::PyBodies>()?;

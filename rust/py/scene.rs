@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 
 use super::convert::{float_array, vec3, vec4};
 use super::errors::IntoPy;
+use super::joints::{self, JointArgs};
 use super::mass::PyMassProperties;
 use super::shapes::PyShape;
 use super::world::PyWorld;
@@ -109,6 +110,34 @@ impl PyScene {
             spec.angular_velocity = vec3(w, &field("angular_velocity"))?;
         }
         self.inner.add_body(spec).py_err()
+    }
+
+    /// Adds a joint and returns its index. See the stub for the parameters.
+    #[pyo3(signature = (kind, body_a, body_b=None, *, anchor=None, anchor_b=None, axis=None,
+                        compliance=0.0, angular_compliance=0.0, limits=None, rest_length=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_joint(
+        &mut self,
+        kind: &str,
+        body_a: i64,
+        body_b: Option<i64>,
+        anchor: Option<&Bound<'_, PyAny>>,
+        anchor_b: Option<&Bound<'_, PyAny>>,
+        axis: Option<&Bound<'_, PyAny>>,
+        compliance: f64,
+        angular_compliance: f64,
+        limits: Option<&Bound<'_, PyAny>>,
+        rest_length: Option<f64>,
+    ) -> PyResult<usize> {
+        let args = JointArgs { kind, body_a, body_b, anchor, anchor_b, axis, compliance, angular_compliance, limits, rest_length };
+        let spec = joints::spec(&args, self.inner.joints().len())?;
+        self.inner.add_joint(spec).py_err()
+    }
+
+    /// Number of joints added.
+    #[getter]
+    fn joint_count(&self) -> usize {
+        self.inner.joints().len()
     }
 
     /// Compiles the scene into a `World`. See the stub for the parameters.

@@ -2,11 +2,12 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::convert::{non_negative_int, vec3};
+use super::joints;
 use super::errors::{IntoPy, RigidError};
 use super::views::PyBodies;
 use crate::collide::narrow_phase::ContactReport;
@@ -165,6 +166,18 @@ impl PyWorld {
         d.set_item("normal_impulse", PyArray1::from_vec(py, scalars(|r| r.normal_impulse)))?;
         d.set_item("friction_impulse", PyArray1::from_vec(py, flat3(|r| r.friction_impulse)).reshape([k, 3])?)?;
         Ok(d)
+    }
+
+    /// Force (J, 3) (N, world) each joint applied to its body a over the last
+    /// substep; body b received the opposite.
+    fn joint_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        joints::rows(py, self.inner.joint_forces())
+    }
+
+    /// Couple (J, 3) (N·m, world) each joint's angular constraints applied to
+    /// body a over the last substep (with the force: the wrench about a's anchor).
+    fn joint_torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        joints::rows(py, self.inner.joint_torques())
     }
 
     /// Substeps per step (resolved: 1 without contacts, 4 with them, unless given).

@@ -1,4 +1,4 @@
-//! Islands and sleeping. Each step, dynamic bodies joined by contacts form islands
+//! Islands and sleeping. Each step, dynamic bodies joined by contacts or joints form islands
 //! (union–find); an island whose bodies have all stayed slower than the sleep
 //! thresholds for `time` goes to sleep: its velocities are zeroed and it leaves
 //! every stage until an awake body touches it, or the user gives one of its
@@ -52,7 +52,14 @@ impl Islands {
 
     /// Ages the rest timers and puts islands at rest to sleep. Returns whether any
     /// body fell asleep.
-    pub fn update(&mut self, b: &mut Bodies, constraints: &[Constraint], dt: f64, s: &SleepSettings) -> bool {
+    pub fn update(
+        &mut self,
+        b: &mut Bodies,
+        constraints: &[Constraint],
+        joints: &[(u32, u32)],
+        dt: f64,
+        s: &SleepSettings,
+    ) -> bool {
         let n = b.len();
         for i in 0..n {
             self.parent[i] = i as u32;
@@ -64,8 +71,7 @@ impl Islands {
             let forced = b.force[i] != [0.0; 3] || b.torque[i] != [0.0; 3];
             self.rest_time[i] = if v < s.linear && w < s.angular && !forced { self.rest_time[i] + dt } else { 0.0 };
         }
-        for c in constraints {
-            let (i, j) = (c.b1, c.b2);
+        for (i, j) in constraints.iter().map(|c| (c.b1, c.b2)).chain(joints.iter().copied()) {
             if b.awake(i as usize) && b.awake(j as usize) {
                 let (ri, rj) = (find(&mut self.parent, i), find(&mut self.parent, j));
                 if ri != rj {

@@ -34,6 +34,8 @@ pub struct Collision {
     pub bouncy: bool,
     pub frictional: bool,
     margin: f64,
+    /// Body pairs tied by a joint, sorted: they never collide.
+    jointed: Vec<(u32, u32)>,
 }
 
 fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
@@ -81,9 +83,10 @@ fn can_touch(colliders: &[Collider], kinds: &[BodyKind]) -> bool {
 }
 
 impl Collision {
-    pub fn new(descs: &[BodyDesc], bodies: &Bodies, settings: &Settings) -> Result<Option<Self>> {
+    /// `jointed`: sorted body pairs (smaller index first) tied by a joint.
+    pub fn new(descs: &[BodyDesc], bodies: &Bodies, settings: &Settings, jointed: &[(u32, u32)]) -> Result<Option<Self>> {
         let colliders: Vec<Collider> = descs.iter().enumerate().filter_map(|(i, d)| collider_of(i, d)).collect();
-        if !can_touch(&colliders, &bodies.kind) {
+        if !can_touch(&colliders, &bodies.kind) || !super::joints::some_pair_unjointed(&colliders, &bodies.kind, jointed) {
             return Ok(None);
         }
         check_supported(&colliders, &bodies.kind)?;
@@ -107,6 +110,7 @@ impl Collision {
             bouncy,
             frictional,
             margin: settings.solver.margin,
+            jointed: jointed.to_vec(),
         }))
     }
 
@@ -126,7 +130,8 @@ impl Collision {
         }
         self.candidates.clear();
         let (cols, boxes) = (&self.colliders, &self.boxes);
-        let keep = |i: u32, j: u32| pair_allowed(cols, b, i, j);
+        let jointed = &self.jointed;
+        let keep = |i: u32, j: u32| pair_allowed(cols, b, i, j, jointed);
         self.sap.pairs(boxes, &self.finite, keep, &mut self.candidates);
         for &h in &self.infinite {
             let c = &cols[h as usize];
@@ -135,7 +140,7 @@ impl Collision {
             let n = pose.rotation * hs.normal.into_inner();
             let half = HalfSpace { normal: n.into(), offset: n.dot(&pose.translation.vector) };
             for &f in &self.finite {
-                if pair_allowed(cols, b, h, f) && half.touches(&boxes[f as usize], 0.0) {
+                if pair_allowed(cols, b, h, f, jointed) && half.touches(&boxes[f as usize], 0.0) {
                     self.candidates.push((h.min(f), h.max(f)));
                 }
             }
@@ -186,12 +191,16 @@ impl Collision {
     }
 }
 
-/// Colliders `i` and `j` may touch now: different bodies, filters agree, and one
-/// of the two bodies moves.
-fn pair_allowed(cols: &[Collider], b: &Bodies, i: u32, j: u32) -> bool {
+/// Colliders `i` and `j` may touch now: different bodies not tied by a joint,
+/// filters agree, and one of the two bodies moves.
+fn pair_allowed(cols: &[Collider], b: &Bodies, i: u32, j: u32, jointed: &[(u32, u32)]) -> bool {
     let (ci, cj) = (&cols[i as usize], &cols[j as usize]);
     let (bi, bj) = (ci.body as usize, cj.body as usize);
-    bi != bj && ci.filter.allows(&cj.filter) && (b.moving(bi) || b.moving(bj)) && !(ci.infinite && cj.infinite)
+    bi != bj
+        && ci.filter.allows(&cj.filter)
+        && (b.moving(bi) || b.moving(bj))
+        && !(ci.infinite && cj.infinite)
+        && !super::joints::jointed(jointed, ci.body, cj.body)
 }
 
 /// Rejects at build time a pair of shapes that can touch but that parry cannot

@@ -7,6 +7,15 @@
 //! every impulse-based engine), while bodies in free flight keep the integrator's
 //! own splitting and its order. The drift (translation and rotation) is the
 //! integrator's for both.
+//!
+//! Joints (XPBD, [`crate::xpbd::joints`]) are projected once per substep right
+//! after the integrator's last drift, before CCD and the contact relax pass: the
+//! contact solve of the substep (velocities, with position bias) has already
+//! run, the joint projection then moves the bodies onto their joint constraints
+//! and corrects their velocities by `Δx/h`, `Δθ/h`, and the relax pass (and, for
+//! splittings that close with a kick, that kick) acts on the corrected state.
+//! Contacts therefore see the joints' corrections in the relax pass and in the
+//! next substep; joints see the contact impulses through the drift.
 
 use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator};
 
@@ -53,6 +62,8 @@ pub enum StageKind {
     Ccd,
     /// Islands at rest go to sleep.
     Sleep,
+    /// XPBD projection of the joints (after the last drift of a substep).
+    Joints,
 }
 
 /// One stage: what it does, the fraction of the (sub)step it covers, and its
@@ -92,6 +103,7 @@ impl Stage {
             StageKind::Kinematic => "kinematic",
             StageKind::Ccd => "ccd",
             StageKind::Sleep => "sleep",
+            StageKind::Joints => "joints",
         }
     }
 }
@@ -112,8 +124,10 @@ pub struct PlanInputs {
     pub ccd: bool,
     pub kinematic: bool,
     pub sleep: bool,
-    /// Solver iterations per substep (≥ 1).
+    /// Solver iterations per substep (≥ 1), contacts and joints alike.
     pub iterations: u32,
+    /// The scene has joints.
+    pub joints: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -191,6 +205,7 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
                 let last = s.kicks[s.drifts.len()];
                 if inp.forces && last != 0.0 {
                     // The closing kick goes after the relax so resting bodies end at rest.
+                    joints(&mut p.sub, inp);
                     if inp.ccd {
                         p.sub.push(Stage::new(StageKind::Ccd, 1.0));
                     }
@@ -203,6 +218,9 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
             }
         }
     }
+    if dynamic {
+        joints(&mut p.sub, inp);
+    }
     if inp.ccd && dynamic {
         p.sub.push(Stage::new(StageKind::Ccd, 1.0));
     }
@@ -210,6 +228,13 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         solve(&mut p.sub, inp, true);
     }
     finish(p, inp)
+}
+
+/// The joint projection, if the scene has joints.
+fn joints(sub: &mut Vec<Stage>, inp: &PlanInputs) {
+    if inp.joints {
+        sub.push(Stage::new(StageKind::Joints, 1.0));
+    }
 }
 
 /// Solver iterations; the relax pass gathers first, and each pass scatters after.

@@ -91,18 +91,20 @@ pub struct Scene {
     /// Gravitational acceleration (m/s²). Default (0, 0, −9.81).
     pub gravity: [f64; 3],
     bodies: Vec<BodyDesc>,
+    /// Joints, validated and compiled by `add_joint` (see `super::joints`).
+    pub(crate) joints: Vec<crate::xpbd::joints::Joint>,
 }
 
 impl Default for Scene {
     fn default() -> Self {
-        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new() }
+        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new(), joints: Vec::new() }
     }
 }
 
 impl Scene {
     pub fn new(gravity: [f64; 3]) -> Result<Self> {
         finite3("gravity", gravity)?;
-        Ok(Self { gravity, bodies: Vec::new() })
+        Ok(Self { gravity, bodies: Vec::new(), joints: Vec::new() })
     }
 
     pub fn bodies(&self) -> &[BodyDesc] {

@@ -118,6 +118,7 @@ impl World {
                 }
             }
             StageKind::Sleep => self.sleep(dt),
+            StageKind::Joints => self.project_joints(h),
         }
     }
 
@@ -156,7 +157,7 @@ impl World {
 
     fn sleep(&mut self, dt: f64) {
         let Some(c) = self.collision.as_mut() else { return };
-        if c.islands.update(&mut self.bodies, &c.solver.constraints, dt, &self.settings.sleep) {
+        if c.islands.update(&mut self.bodies, &c.solver.constraints, self.joints.pairs(), dt, &self.settings.sleep) {
             self.relist();
         }
     }

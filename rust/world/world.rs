@@ -29,6 +29,8 @@ pub struct World {
     pub(crate) free: Vec<u32>,
     pub(crate) kinematic: Vec<u32>,
     pub collision: Option<Collision>,
+    /// The scene's joints and what they did over the last substep.
+    pub joints: crate::xpbd::joints::Joints,
     pub(crate) plan: Plan,
     pub(crate) plan_inputs: PlanInputs,
     pub(crate) steps: u64,
@@ -46,7 +48,8 @@ impl World {
             bodies.push(&d.init);
         }
         let shapes = descs.iter().map(|d| d.shape.clone().map(|s| (s, d.shape_pose))).collect();
-        let collision = Collision::new(descs, &bodies, &settings)?;
+        let joint_pairs = World::joint_pairs(scene);
+        let collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
         let substeps = settings.substeps.unwrap_or(if collision.is_some() { 4 } else { 1 });
         let lists = BodyLists::new(&bodies);
         let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
@@ -61,6 +64,7 @@ impl World {
             kinematic: descs.iter().any(|d| d.init.kind == BodyKind::Kinematic),
             sleep: collision.is_some() && settings.sleep.enabled,
             iterations: settings.iterations,
+            joints: !scene.joints().is_empty(),
         };
         let mut world = World {
             bodies,
@@ -74,6 +78,7 @@ impl World {
             touching: Vec::new(),
             kinematic,
             collision,
+            joints: crate::xpbd::joints::Joints::new(scene.joints().to_vec()),
             plan: Plan::default(),
             plan_inputs,
             steps: 0,

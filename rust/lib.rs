@@ -12,6 +12,7 @@ pub mod integrate;
 pub mod math;
 pub mod solve;
 pub mod world;
+pub mod xpbd;
 
 #[cfg(feature = "python")]
 mod py;

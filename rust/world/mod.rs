@@ -3,6 +3,7 @@
 
 pub mod collision;
 pub mod diagnostics;
+pub mod particles;
 pub mod pipeline;
 pub mod profile;
 pub mod scene;

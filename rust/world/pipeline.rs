@@ -7,6 +7,13 @@
 //! every impulse-based engine), while bodies in free flight keep the integrator's
 //! own splitting and its order. The drift (translation and rotation) is the
 //! integrator's for both.
+//!
+//! Particles (XPBD) and shape matching run each substep after the rigid drift
+//! and before CCD, the contact relax pass and the closing kick: `xpbd`
+//! (predict), `shape_matching` (only with clusters), `xpbd` (project constraints
+//! and collisions, update velocities); see `crate::xpbd::solver`. Particles see
+//! the bodies at their drifted poses, and what they do to bodies (attachments,
+//! contacts) is then seen by the relax pass.
 
 use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator};
 
@@ -53,6 +60,12 @@ pub enum StageKind {
     Ccd,
     /// Islands at rest go to sleep.
     Sleep,
+    /// Particles: prediction by their velocities and gravity.
+    ParticlePredict,
+    /// Shape matching of the particle clusters.
+    ShapeMatching,
+    /// Particles: constraint and collision projection, then velocities.
+    ParticleProject,
 }
 
 /// One stage: what it does, the fraction of the (sub)step it covers, and its
@@ -92,6 +105,8 @@ impl Stage {
             StageKind::Kinematic => "kinematic",
             StageKind::Ccd => "ccd",
             StageKind::Sleep => "sleep",
+            StageKind::ParticlePredict | StageKind::ParticleProject => "xpbd",
+            StageKind::ShapeMatching => "shape_matching",
         }
     }
 }
@@ -114,6 +129,9 @@ pub struct PlanInputs {
     pub sleep: bool,
     /// Solver iterations per substep (≥ 1).
     pub iterations: u32,
+    /// The scene has particles / shape-matching clusters.
+    pub particles: bool,
+    pub clusters: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -180,6 +198,7 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
                 if inp.collisions {
                     p.sub.push(Stage::new(StageKind::Rk4 { group: Group::Touching, forces: false }, 1.0));
                 }
+                particles(&mut p.sub, inp);
             }
             Some(s) => {
                 for (j, &d) in s.drifts.iter().enumerate() {
@@ -188,6 +207,7 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
                     }
                     drift(&mut p.sub, d);
                 }
+                particles(&mut p.sub, inp);
                 let last = s.kicks[s.drifts.len()];
                 if inp.forces && last != 0.0 {
                     // The closing kick goes after the relax so resting bodies end at rest.
@@ -203,6 +223,9 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
             }
         }
     }
+    if !dynamic {
+        particles(&mut p.sub, inp);
+    }
     if inp.ccd && dynamic {
         p.sub.push(Stage::new(StageKind::Ccd, 1.0));
     }
@@ -210,6 +233,17 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         solve(&mut p.sub, inp, true);
     }
     finish(p, inp)
+}
+
+/// The particle stages of a substep (see the module docs).
+fn particles(sub: &mut Vec<Stage>, inp: &PlanInputs) {
+    if inp.particles {
+        sub.push(Stage::new(StageKind::ParticlePredict, 1.0));
+        if inp.clusters {
+            sub.push(Stage::new(StageKind::ShapeMatching, 1.0));
+        }
+        sub.push(Stage::new(StageKind::ParticleProject, 1.0));
+    }
 }
 
 /// Solver iterations; the relax pass gathers first, and each pass scatters after.

@@ -91,18 +91,20 @@ pub struct Scene {
     /// Gravitational acceleration (m/s²). Default (0, 0, −9.81).
     pub gravity: [f64; 3],
     bodies: Vec<BodyDesc>,
+    /// Particles, their constraints and clusters (see `world::particles`).
+    pub(crate) xpbd: crate::xpbd::XpbdModel,
 }
 
 impl Default for Scene {
     fn default() -> Self {
-        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new() }
+        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new(), xpbd: Default::default() }
     }
 }
 
 impl Scene {
     pub fn new(gravity: [f64; 3]) -> Result<Self> {
         finite3("gravity", gravity)?;
-        Ok(Self { gravity, bodies: Vec::new() })
+        Ok(Self { gravity, bodies: Vec::new(), xpbd: Default::default() })
     }
 
     pub fn bodies(&self) -> &[BodyDesc] {

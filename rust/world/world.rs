@@ -29,6 +29,8 @@ pub struct World {
     pub(crate) free: Vec<u32>,
     pub(crate) kinematic: Vec<u32>,
     pub collision: Option<Collision>,
+    /// Particles, their constraints and clusters (none without particles).
+    pub xpbd: Option<crate::xpbd::Xpbd>,
     pub(crate) plan: Plan,
     pub(crate) plan_inputs: PlanInputs,
     pub(crate) steps: u64,
@@ -61,7 +63,10 @@ impl World {
             kinematic: descs.iter().any(|d| d.init.kind == BodyKind::Kinematic),
             sleep: collision.is_some() && settings.sleep.enabled,
             iterations: settings.iterations,
+            particles: !scene.xpbd.is_empty(),
+            clusters: !scene.xpbd.clusters.is_empty(),
         };
+        let xpbd = super::particles::compile(scene, &settings)?;
         let mut world = World {
             bodies,
             shapes,
@@ -74,6 +79,7 @@ impl World {
             touching: Vec::new(),
             kinematic,
             collision,
+            xpbd,
             plan: Plan::default(),
             plan_inputs,
             steps: 0,

@@ -176,3 +176,33 @@ impl World {
         }
     }
 }
+
+/// Energy and momentum of the movable particles (pinned ones are like fixed
+/// bodies: they carry none).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct ParticleSums {
+    /// `Σ ½ m v²` (J), `−Σ m g·x` (J), `Σ m v` (kg·m/s), `Σ x × m v` (kg·m²/s).
+    pub kinetic: f64,
+    pub potential: f64,
+    pub linear: crate::math::Vec3,
+    pub angular: crate::math::Vec3,
+}
+
+impl World {
+    pub(crate) fn particle_sums(&self) -> ParticleSums {
+        use crate::math::Vec3;
+        let mut s = ParticleSums::default();
+        let Some(p) = self.particles() else { return s };
+        for i in 0..p.len() {
+            if p.inv_mass[i] == 0.0 {
+                continue;
+            }
+            let (m, x, v) = (p.mass[i], Vec3::from(p.position[i]), Vec3::from(p.velocity[i]));
+            s.kinetic += 0.5 * m * v.norm_squared();
+            s.potential -= m * self.gravity.dot(&x);
+            s.linear += v * m;
+            s.angular += x.cross(&(v * m));
+        }
+        s
+    }
+}

@@ -11,7 +11,10 @@ use super::model::XpbdModel;
 use super::particles::ParticleSpec;
 use super::shape_matching::ClusterSpec;
 use crate::error::{finite3, positive, Error, Result};
+use crate::body::shape::{Shape, ShapeKind};
 use crate::math::Vec3;
+use nalgebra::Point3;
+use parry3d_f64::shape::{SharedShape, TriMesh, TriMeshFlags};
 
 /// Particle properties shared by a builder's particles.
 #[derive(Clone, Copy, Debug)]
@@ -278,37 +281,46 @@ fn grid(n: Vec3Usize) -> impl Iterator<Item = [usize; 3]> {
 
 type Vec3Usize = nalgebra::Vector3<usize>;
 
-/// Points filling the closed, outward-oriented triangle mesh (`vertices` in m):
-/// the vertices, then the nodes of a grid of spacing `spacing` (m) inside the
-/// mesh and at least `spacing / 2` from its surface.
-pub fn fill_mesh(vertices: &[[f64; 3]], triangles: &[[u32; 3]], spacing: f64) -> Result<Vec<[f64; 3]>> {
-    use parry3d_f64::query::PointQuery;
-    use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+/// Points filling a shape (in the shape's frame, m): the nodes of a grid of
+/// spacing `spacing` (m) over the shape's bounding box, aligned with its lower
+/// corner, that lie inside the shape or on its surface, and for a triangle mesh
+/// its vertices as well. A box whose extents are multiples of `spacing` gets its
+/// corners; a mesh must be closed and outward-oriented.
+pub fn fill_shape(shape: &Shape, spacing: f64) -> Result<Vec<[f64; 3]>> {
     positive("spacing", spacing)?;
-    let pts: Vec<nalgebra::Point3<f64>> = vertices
-        .iter()
-        .enumerate()
-        .map(|(k, v)| finite3(&format!("vertices[{k}]"), *v).map(|v| nalgebra::Point3::from(Vec3::from(v))))
-        .collect::<Result<_>>()?;
-    if let Some((t, bad)) = triangles.iter().enumerate().find_map(|(t, tri)| tri.iter().find(|&&i| i as usize >= pts.len()).map(|b| (t, *b))) {
-        return Err(Error::input(format!("triangles[{t}] has index {bad}, but there are {} vertices", pts.len())));
-    }
-    let mesh = TriMesh::with_flags(pts.clone(), triangles.to_vec(), TriMeshFlags::ORIENTED)
-        .map_err(|e| Error::shape(format!("mesh: {e:?}")))?;
-    let v: Vec<Vec3> = pts.iter().map(|p| p.coords).collect();
-    let (lo, hi) = bounds(&v);
-    let nodes = ((hi - lo) / spacing).map(|x| x.floor() as usize + 1);
-    if nodes.iter().product::<usize>() > 1 << 22 {
-        return Err(Error::input(format!("spacing {spacing} is too small for a mesh spanning {:?} m", (hi - lo).as_slice())));
-    }
-    let offset = (hi - lo - (nodes.map(|x| x as f64) - Vec3::repeat(1.0)) * spacing) * 0.5;
-    let mut out: Vec<[f64; 3]> = vertices.to_vec();
-    for node in grid(nodes) {
-        let p = lo + offset + Vec3::from_fn(|a, _| node[a] as f64 * spacing);
-        let proj = mesh.project_local_point(&nalgebra::Point3::from(p), false);
-        if proj.is_inside && (proj.point.coords - p).norm() >= 0.5 * spacing {
-            out.push(p.into());
+    let mut out: Vec<[f64; 3]> = Vec::new();
+    let solid: SharedShape = match &shape.kind {
+        ShapeKind::Plane { .. } => return Err(Error::shape("a Plane is infinite: it cannot be filled with particles")),
+        ShapeKind::TriMesh { vertices, triangles } => {
+            out.extend(vertices.iter().copied());
+            let pts = vertices.iter().map(|v| Point3::from(Vec3::from(*v))).collect();
+            let mesh = TriMesh::with_flags(pts, triangles.to_vec(), TriMeshFlags::ORIENTED)
+                .map_err(|e| Error::shape(format!("TriMesh: {e:?}")))?;
+            SharedShape::new(mesh)
         }
+        _ => shape.parry.clone(),
+    };
+    let is_mesh = matches!(shape.kind, ShapeKind::TriMesh { .. });
+    let pose = shape.parry_pose;
+    let aabb = solid.compute_aabb(&pose);
+    let (lo, hi) = (aabb.mins.coords, aabb.maxs.coords);
+    let nodes = ((hi - lo) / spacing).map(|x| (x * (1.0 + 1e-12)).floor() as usize + 1);
+    if nodes.iter().map(|&n| n as f64).product::<f64>() > (1u64 << 22) as f64 {
+        return Err(Error::input(format!("spacing {spacing} m is too small for a shape spanning {:?} m", (hi - lo).as_slice())));
+    }
+    let on_surface = 1e-9 * spacing;
+    for node in grid(nodes) {
+        let p = Point3::from(lo + Vec3::from_fn(|a, _| node[a] as f64 * spacing));
+        // With a feature: a mesh's pseudo-normals then tell inside from outside.
+        let (proj, _) = solid.project_point_and_get_feature(&pose, &p);
+        let d = (proj.point - p).norm();
+        // A mesh's surface points are its vertices already.
+        if (proj.is_inside && !(is_mesh && d <= on_surface)) || (!is_mesh && d <= on_surface) {
+            out.push(p.coords.into());
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::shape(format!("no grid point of spacing {spacing} m lies in the shape")));
     }
     Ok(out)
 }

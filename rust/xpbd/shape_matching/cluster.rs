@@ -80,7 +80,8 @@ impl ClusterSpec {
     }
 }
 
-/// The quadratic terms `q̃ = (x, y, z, x², y², z², xy, yz, zx)` of a rest offset.
+/// The quadratic terms `(x, y, z, x², y², z², xy, yz, zx)` of a rest offset. A
+/// cluster subtracts their weighted mean (see `Cluster::quad_mean`).
 #[inline]
 pub fn quadratic_terms(q: &Vec3) -> Vec9 {
     Vec9::from([q.x, q.y, q.z, q.x * q.x, q.y * q.y, q.z * q.z, q.x * q.y, q.y * q.z, q.z * q.x])
@@ -100,6 +101,10 @@ pub struct Cluster {
     /// `(Σ w q qᵀ)⁻¹` (1/(kg·m²)) and, in quadratic mode, `(Σ w q̃ q̃ᵀ)⁻¹`.
     pub aqq_inv: Mat3,
     pub aqq9_inv: Mat9,
+    /// Weighted mean of the quadratic terms over the rest shape. Müller's `q̃`
+    /// minus this: centred like the `q`, so that `Σ w Ã q̃ = 0` and the quadratic
+    /// goals keep the centre (and the momentum) of the cluster.
+    pub quad_mean: Vec9,
     /// Rotation of the last goal (warm start of the next).
     pub rotation: UnitQuaternion<f64>,
     /// Weighted centre of the particles at the last goal (m).
@@ -135,6 +140,7 @@ impl Cluster {
             rest: Vec::new(),
             aqq_inv: Mat3::identity(),
             aqq9_inv: Mat9::identity(),
+            quad_mean: Vec9::zeros(),
             rotation: UnitQuaternion::identity(),
             center: Vec3::zeros(),
             plastic: Mat3::identity(),
@@ -181,20 +187,34 @@ impl Cluster {
         }
         self.aqq_inv = aqq.try_inverse().unwrap_or_else(Mat3::zeros);
         if self.spec.mode == Mode::Quadratic {
+            let total: f64 = self.weights.iter().sum();
+            self.quad_mean = self.rest.iter().zip(&self.weights).map(|(q, w)| quadratic_terms(q) * *w).sum::<Vec9>() / total;
             self.aqq9_inv = self.quadratic_moments(hi.sqrt())?;
         }
         Ok(())
     }
 
-    /// `(Σ w q̃ q̃ᵀ)⁻¹`, checked for rank on offsets scaled to unit size.
+    /// Centred quadratic terms of a rest offset, `q̃ = terms(q) − mean`.
+    #[inline]
+    pub fn centred_terms(&self, q: &Vec3) -> Vec9 {
+        quadratic_terms(q) - self.quad_mean
+    }
+
+    /// `(Σ w q̃ q̃ᵀ)⁻¹` of the centred terms, checked for rank on offsets scaled to
+    /// unit size.
     fn quadratic_moments(&self, size: f64) -> Result<Mat9> {
         let total: f64 = self.weights.iter().sum();
         let s = (size * size / total).sqrt().max(f64::MIN_POSITIVE);
-        let scaled: Mat9 =
-            self.rest.iter().zip(&self.weights).map(|(q, w)| {
-                let t = quadratic_terms(&(q / s));
+        let d = Vec9::from([1.0 / s, 1.0 / s, 1.0 / s, 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s)]);
+        let scaled: Mat9 = self
+            .rest
+            .iter()
+            .zip(&self.weights)
+            .map(|(q, w)| {
+                let t = self.centred_terms(q).component_mul(&d);
                 t * t.transpose() * *w
-            }).sum();
+            })
+            .sum();
         let eig = scaled.symmetric_eigen().eigenvalues;
         if eig.min() <= SINGULAR * eig.max() {
             return Err(Error::shape(
@@ -203,8 +223,7 @@ impl Cluster {
             ));
         }
         let inv = scaled.try_inverse().ok_or_else(|| Error::shape("quadratic moment matrix is singular"))?;
-        // Undo the scaling: q̃(q) = D q̃(q/s) with D = diag(s, s, s, s², ...).
-        let d = Vec9::from([1.0 / s, 1.0 / s, 1.0 / s, 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s), 1.0 / (s * s)]);
+        // Undo the scaling: the scaled terms are D q̃ with D = diag(1/s, …, 1/s², …).
         Ok(Mat9::from_diagonal(&d) * inv * Mat9::from_diagonal(&d))
     }
 }

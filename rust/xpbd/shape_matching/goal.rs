@@ -5,8 +5,11 @@
 //! - rigid: `gᵢ = R qᵢ + c`;
 //! - linear: `A = Apq Aqq⁻¹` (scaled to `det A = 1` when the volume is kept),
 //!   `gᵢ = (β A + (1 − β) R) qᵢ + c`;
-//! - quadratic: `Ã = Ãpq Ãqq⁻¹` (3×9) on `q̃ᵢ = (q, q², cross terms)`,
-//!   `gᵢ = (β Ã + (1 − β) [R 0 0]) q̃ᵢ + c`.
+//! - quadratic: `Ã = Ãpq Ãqq⁻¹` (3×9) on `q̃ᵢ = (q, q², cross terms) − mean`,
+//!   `gᵢ = (β Ã + (1 − β) [R 0 0]) q̃ᵢ + c`. Müller's paper does not subtract
+//!   the weighted mean of the quadratic terms; without it the goals' centre drifts
+//!   by `Ã·mean` and the cluster gains momentum. With it the fitted space is the
+//!   same (the mean is a translation, which `c` carries).
 //!
 //! Each goal moves the cluster's particles without changing their weighted
 //! linear or angular momentum: `Σ wᵢ (gᵢ − xᵢ) = 0` since the goals share the
@@ -15,7 +18,7 @@
 
 use nalgebra::SMatrix;
 
-use super::cluster::{quadratic_terms, Cluster, Mode};
+use super::cluster::{Cluster, Mode};
 use super::rotation::rotation_quaternion;
 use crate::math::{Mat3, Vec3};
 
@@ -53,12 +56,12 @@ pub fn goals(c: &mut Cluster, x: &[[f64; 3]], goals: &mut Vec<Vec3>) -> Fit {
         Mode::Quadratic => {
             let mut apq9 = SMatrix::<f64, 3, 9>::zeros();
             for ((&i, &w), q) in c.particles.iter().zip(&c.weights).zip(&c.rest) {
-                apq9 += (Vec3::from(x[i as usize]) - center) * (quadratic_terms(q) * w).transpose();
+                apq9 += (Vec3::from(x[i as usize]) - center) * (c.centred_terms(q) * w).transpose();
             }
             let mut t = apq9 * c.aqq9_inv * beta;
             let mut rr = t.fixed_view_mut::<3, 3>(0, 0);
             rr += r * (1.0 - beta);
-            goals.extend(c.rest.iter().map(|q| t * quadratic_terms(q) + center));
+            goals.extend(c.rest.iter().map(|q| t * c.centred_terms(q) + center));
         }
     }
     Fit { rotation: r, linear }

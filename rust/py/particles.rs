@@ -20,6 +20,13 @@ use crate::xpbd::builders::{self, Material};
 use crate::xpbd::shape_matching::{plasticity, ClusterSpec, Mode};
 use crate::xpbd::{Compliance, ParticleSpec};
 
+/// Local particle indices of a builder (negative ones are out of range).
+fn local_indices(v: &[i64], name: &str) -> PyResult<Vec<usize>> {
+    v.iter()
+        .map(|&i| usize::try_from(i).map_err(|_| PyValueError::new_err(format!("{name} index {i} is out of range"))))
+        .collect()
+}
+
 fn range(py: Python<'_>, r: std::ops::Range<usize>) -> PyResult<Bound<'_, PyRange>> {
     PyRange::new(py, r.start as isize, r.end as isize)
 }
@@ -189,8 +196,9 @@ impl PyScene {
         friction: f64,
         compliance: f64,
         damping: f64,
-        pinned: Vec<usize>,
+        pinned: Vec<i64>,
     ) -> PyResult<Bound<'py, PyRange>> {
+        let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
         let mat = Material { mass, radius, friction };
         let r = self.inner.add_rope(vec3(start, "start")?, vec3(end, "end")?, segments, &mat, k, &pinned).py_err()?;
@@ -214,8 +222,9 @@ impl PyScene {
         compliance: f64,
         damping: f64,
         bending_compliance: Option<f64>,
-        pinned: Vec<usize>,
+        pinned: Vec<i64>,
     ) -> PyResult<Bound<'py, PyRange>> {
+        let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
         let kb = bending_compliance.map(|b| Compliance::new(b, 0.0)).transpose().py_err()?;
         let mat = Material { mass, radius, friction };

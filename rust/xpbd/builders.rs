@@ -55,6 +55,15 @@ fn count(name: &str, n: i64, min: i64) -> Result<usize> {
     Ok(n as usize)
 }
 
+/// At most 2^24 particles per builder call.
+fn total(n: &[usize]) -> Result<usize> {
+    let t = n.iter().map(|&k| k as f64).product::<f64>();
+    if t > (1u64 << 24) as f64 {
+        return Err(Error::input(format!("{n:?} makes {t:.3e} particles; at most 2^24 per builder")));
+    }
+    Ok(t as usize)
+}
+
 /// A rope or chain from `start` to `end` (m): `segments + 1` particles joined by
 /// `segments` distance constraints (in order along the rope). `pinned` lists
 /// particles (0 = start, `segments` = end) that do not move.
@@ -134,6 +143,7 @@ pub fn cloth(
 ) -> Result<Range<usize>> {
     m.atomically(|m| {
         let (nu, nv) = (count("nu", nu, 2)?, count("nv", nv, 2)?);
+        total(&[nu, nv])?;
         let (o, u, v) = (Vec3::from(finite3("origin", origin)?), Vec3::from(finite3("u", u)?), Vec3::from(finite3("v", v)?));
         if !(u.cross(&v).norm() > 0.0) {
             return Err(Error::shape("u and v must span a rectangle (non-zero and not parallel)"));
@@ -183,6 +193,7 @@ pub fn soft_box(
             positive(&format!("half_extents[{a}]"), h)?;
         }
         let n = [count("cells[0]", cells[0], 1)?, count("cells[1]", cells[1], 1)?, count("cells[2]", cells[2], 1)?];
+        total(&[n[0] + 1, n[1] + 1, n[2] + 1])?;
         let id = |i: usize, j: usize, l: usize| i + (n[0] + 1) * (j + (n[1] + 1) * l);
         let mut pts = Vec::new();
         for l in 0..=n[2] {
@@ -244,8 +255,8 @@ pub fn shape_matched_body(
         };
         positive("cluster_size", s)?;
         let (lo, hi) = bounds(&pts);
-        let nodes = ((hi - lo) / s).map(|x| x.ceil() as usize + 1);
-        if nodes.iter().product::<usize>() > 1 << 20 {
+        let nodes = ((hi - lo) / s).map(|x| x.ceil().min(1e9) as usize + 1);
+        if nodes.iter().map(|&n| n as f64).product::<f64>() > (1u64 << 20) as f64 {
             return Err(Error::input(format!("cluster_size {s} is too small for points spanning {:?} m", (hi - lo).as_slice())));
         }
         let mut covered = vec![false; pts.len()];
@@ -304,7 +315,7 @@ pub fn fill_shape(shape: &Shape, spacing: f64) -> Result<Vec<[f64; 3]>> {
     let pose = shape.parry_pose;
     let aabb = solid.compute_aabb(&pose);
     let (lo, hi) = (aabb.mins.coords, aabb.maxs.coords);
-    let nodes = ((hi - lo) / spacing).map(|x| (x * (1.0 + 1e-12)).floor() as usize + 1);
+    let nodes = ((hi - lo) / spacing).map(|x| (x * (1.0 + 1e-12)).floor().min(1e9) as usize + 1);
     if nodes.iter().map(|&n| n as f64).product::<f64>() > (1u64 << 22) as f64 {
         return Err(Error::input(format!("spacing {spacing} m is too small for a shape spanning {:?} m", (hi - lo).as_slice())));
     }

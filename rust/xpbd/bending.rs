@@ -56,16 +56,17 @@ pub fn angle_and_gradient(x: [Vec3; 4]) -> Option<(f64, [Vec3; 4])> {
     Some((theta, [-g0, -g1, -g2, -g3]))
 }
 
-/// Wraps an angle difference into (−π, π].
+/// Wraps an angle difference into (−π, π] (branches only for the usual |a| < 3π).
 #[inline]
 pub fn wrap(a: f64) -> f64 {
-    let mut a = a % (2.0 * PI);
+    let a = if a.abs() < 3.0 * PI { a } else { a % (2.0 * PI) };
     if a > PI {
-        a -= 2.0 * PI;
+        a - 2.0 * PI
     } else if a <= -PI {
-        a += 2.0 * PI;
+        a + 2.0 * PI
+    } else {
+        a
     }
-    a
 }
 
 #[inline]

@@ -305,8 +305,12 @@ pub fn fill_shape(shape: &Shape, spacing: f64) -> Result<Vec<[f64; 3]>> {
         ShapeKind::TriMesh { vertices, triangles } => {
             out.extend(vertices.iter().copied());
             let pts = vertices.iter().map(|v| Point3::from(Vec3::from(*v))).collect();
-            let mesh = TriMesh::with_flags(pts, triangles.to_vec(), TriMeshFlags::ORIENTED)
-                .map_err(|e| Error::shape(format!("TriMesh: {e:?}")))?;
+            let tris = triangles.to_vec();
+            // parry checks the topology; a panic in it must not escape either.
+            let built = std::panic::catch_unwind(|| TriMesh::with_flags(pts, tris, TriMeshFlags::ORIENTED));
+            let mesh = built
+                .map_err(|_| Error::shape("TriMesh: parry could not orient this mesh"))?
+                .map_err(|e| Error::shape(format!("TriMesh: {e:?} (it must be closed and consistently oriented)")))?;
             SharedShape::new(mesh)
         }
         _ => shape.parry.clone(),

@@ -53,10 +53,10 @@ impl SpatialHash {
     /// Calls `f(j)` for every particle in the 27 cells around `p` (and possibly
     /// a few more sharing their buckets), each at most once.
     pub fn for_neighbours(&self, p: &[f64; 3], mut f: impl FnMut(u32)) {
-        let n = self.start.len() - 1;
-        if self.entries.is_empty() {
+        if self.entries.is_empty() || self.start.len() < 2 {
             return;
         }
+        let n = self.start.len() - 1;
         let c = self.cell_of(p);
         let mut seen = [usize::MAX; 27];
         let mut k = 0;

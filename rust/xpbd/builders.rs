@@ -330,7 +330,8 @@ pub fn fill_shape(shape: &Shape, spacing: f64) -> Result<Vec<[f64; 3]>> {
         let (proj, _) = solid.project_point_and_get_feature(&pose, &p);
         let d = (proj.point - p).norm();
         // A mesh's surface points are its vertices already.
-        if (proj.is_inside && !(is_mesh && d <= on_surface)) || (!is_mesh && d <= on_surface) {
+        let keep = if is_mesh { proj.is_inside && d > on_surface } else { proj.is_inside || d <= on_surface };
+        if keep {
             out.push(p.coords.into());
         }
     }

@@ -8,13 +8,17 @@
 //!   bodies take their share through their generalized inverse mass. Friction is
 //!   position-based (Müller et al. 2020): the tangential slip over the substep is
 //!   removed while its multiplier stays within `μs λn`, and limited to `μk λn`
-//!   beyond. A triangle mesh, which has no inside, is a thin two-sided shell.
+//!   beyond. A particle moving farther than its radius in a substep is swept
+//!   along its motion (a ray from its previous position), so it cannot tunnel
+//!   through a thin shape. A triangle mesh, which has no inside, is a thin
+//!   two-sided shell whose outside is the side the particle comes from.
 //! - between particles with a radius: pairs within reach are found each substep
 //!   with a spatial hash; `C = |xᵢ − xⱼ| − (rᵢ + rⱼ) ≥ 0`, no friction. Pairs that
 //!   already overlap where the particles were added (neighbours in a cloth or a
 //!   soft body) never collide.
 
 use nalgebra::Point3;
+use parry3d_f64::query::Ray;
 
 use super::body_point::{self, world_point};
 use super::compliance::Substep;
@@ -78,8 +82,12 @@ impl ColliderCollisions {
                 continue;
             }
             let reach = p.radius[i] + self.margin;
-            let x = p.position[i];
-            let near = Aabb { min: x.map(|v| v - reach), max: x.map(|v| v + reach) };
+            let (x, x0) = (p.position[i], p.prev[i]);
+            // The box around the particle's motion this substep.
+            let near = Aabb {
+                min: [0, 1, 2].map(|k| x[k].min(x0[k]) - reach),
+                max: [0, 1, 2].map(|k| x[k].max(x0[k]) + reach),
+            };
             for (k, c) in self.colliders.iter().enumerate() {
                 if self.boxes[k].is_some_and(|a| !a.overlaps(&near)) {
                     continue;
@@ -103,21 +111,13 @@ impl ColliderCollisions {
 fn contact(c: &Collider, b: &Bodies, p: &Particles, i: usize, reach: f64) -> Option<ColliderContact> {
     let pose = c.pose(b);
     let local = pose.inverse_transform_point(&Point3::from(Vec3::from(p.position[i])));
-    let proj = c.shape.project_local_point(&local, false);
-    let d = local - proj.point;
-    let dist = d.norm();
-    let signed = if proj.is_inside { -dist } else { dist };
-    if signed > reach {
-        return None;
-    }
-    let normal = if dist > ON_SURFACE {
-        if proj.is_inside { -d / dist } else { d / dist }
-    } else {
-        let (pr, feature) = c.shape.project_local_point_and_get_feature(&local);
-        c.shape.feature_normal_at_point(feature, &pr.point)?.into_inner()
+    let prev = pose.inverse_transform_point(&Point3::from(Vec3::from(p.prev[i])));
+    let (point, normal) = match crossing(c, &prev, &local, p.radius[i]) {
+        Some(hit) => hit,
+        None => surface(c, &prev, &local, reach)?,
     };
     // Collider frame -> body principal frame (origin at the centre of mass).
-    let local_point = (c.local * proj.point).coords;
+    let local_point = (c.local * point).coords;
     let local_normal = c.local.rotation * normal;
     let m = c.material;
     let mu = p.friction[i];
@@ -131,6 +131,55 @@ fn contact(c: &Collider, b: &Bodies, p: &Particles, i: usize, reach: f64) -> Opt
         lambda_n: 0.0,
         lambda_t: 0.0,
     })
+}
+
+/// Whether the collider's shape has no inside (a triangle mesh: a thin shell).
+fn shell(c: &Collider) -> bool {
+    c.shape.shape_type() == parry3d_f64::shape::ShapeType::TriMesh
+}
+
+/// The nearest surface point and outward normal (collider frame) if the particle
+/// at `x` (from `prev` this substep) is within `reach`. A shell's outside is the
+/// side the particle came from.
+fn surface(c: &Collider, prev: &Point3<f64>, x: &Point3<f64>, reach: f64) -> Option<(Point3<f64>, Vec3)> {
+    let proj = c.shape.project_local_point(x, false);
+    let d = x - proj.point;
+    let dist = d.norm();
+    let mut normal = if dist > ON_SURFACE {
+        if proj.is_inside { -d / dist } else { d / dist }
+    } else {
+        let (pr, feature) = c.shape.project_local_point_and_get_feature(x);
+        c.shape.feature_normal_at_point(feature, &pr.point)?.into_inner()
+    };
+    let mut signed = if proj.is_inside { -dist } else { dist };
+    if shell(c) {
+        let mut side = (prev - proj.point).dot(&normal);
+        if side.abs() <= ON_SURFACE {
+            side = -(x - prev).dot(&normal);
+        }
+        if side < 0.0 {
+            normal = -normal;
+            signed = -signed;
+        }
+    }
+    (signed <= reach).then_some((proj.point, normal))
+}
+
+/// A particle moving faster than its radius is swept from `prev` to `x`: if the
+/// segment enters the shape, the contact is at the entry point, facing back
+/// along the motion (no tunnelling through thin shapes).
+fn crossing(c: &Collider, prev: &Point3<f64>, x: &Point3<f64>, radius: f64) -> Option<(Point3<f64>, Vec3)> {
+    let travel = x - prev;
+    if !(travel.norm() > radius.max(ON_SURFACE)) {
+        return None;
+    }
+    let hit = c.shape.cast_local_ray_and_get_normal(&Ray::new(*prev, travel), 1.0, true)?;
+    // Starting inside (time 0): the nearest-surface contact handles it.
+    if !(hit.time_of_impact > 0.0) {
+        return None;
+    }
+    let n = if hit.normal.dot(&travel) > 0.0 { -hit.normal } else { hit.normal };
+    Some((prev + travel * hit.time_of_impact, n))
 }
 
 fn project_contact(ct: &mut ColliderContact, p: &mut Particles, b: &mut Bodies, k: &Substep) {

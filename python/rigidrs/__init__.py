@@ -2,7 +2,8 @@
 
 Describe what to simulate in a :class:`Scene`, compile it with
 :meth:`Scene.build` into a :class:`World`, step it, and read its state through
-NumPy views (``world.bodies.position`` and friends). SI units, z up, quaternions
+NumPy views (``world.bodies.position``, ``world.particles.position`` and
+friends). SI units, z up, quaternions
 in (x, y, z, w) order.
 """
 from ._core import (
@@ -15,6 +16,7 @@ from ._core import (
     ConvexHull,
     Cylinder,
     MassProperties,
+    Particles,
     Plane,
     RigidError,
     Scene,
@@ -39,6 +41,7 @@ __all__ = [
     "ConvexHull",
     "Cylinder",
     "MassProperties",
+    "Particles",
     "Plane",
     "RigidError",
     "Scene",

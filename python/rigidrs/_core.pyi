@@ -1,5 +1,5 @@
 """Typed interface of the compiled core. SI units; quaternions (x, y, z, w)."""
-from typing import Any, TypeAlias, final
+from typing import Any, Sequence, TypeAlias, final
 
 import numpy as np
 import numpy.typing as npt
@@ -18,6 +18,7 @@ __all__ = [
     "Cylinder",
     "INTEGRATORS",
     "MassProperties",
+    "Particles",
     "Plane",
     "RigidError",
     "Scene",
@@ -279,7 +280,165 @@ class Scene:
         contact stiffness, default 30), ``contact_damping_ratio`` (default 10),
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
-        body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05)."""
+        body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
+        ``iterations`` is also the number of XPBD constraint passes per substep."""
+    @property
+    def particle_count(self) -> int:
+        """Number of particles added so far."""
+    @property
+    def constraint_count(self) -> int:
+        """Number of particle constraints added so far (the length of ``World.constraint_forces()``)."""
+    @property
+    def cluster_count(self) -> int:
+        """Number of shape-matching clusters added so far."""
+    def add_particle(
+        self,
+        position: ArrayLike,
+        *,
+        mass: float = 1.0,
+        radius: float = 0.0,
+        velocity: ArrayLike | None = None,
+        fixed: bool = False,
+        friction: float = 0.5,
+    ) -> int:
+        """Adds a particle; returns its index in ``World.particles``.
+
+        ``position`` (3,) (m), ``velocity`` (3,) (m/s, default 0), ``mass`` (kg, default 1),
+        ``radius`` (m, default 0: a point, which collides with rigid colliders but not with
+        other particles), ``friction`` against rigid colliders (default 0.5, combined with the
+        collider's by the geometric mean). ``fixed=True`` pins it (inverse mass 0)."""
+    def add_distance_constraint(
+        self, p: int, q: int, *, compliance: float = 0.0, damping: float = 0.0, rest_length: float | None = None
+    ) -> int:
+        """``C = |x_p − x_q| − L``; returns the constraint index.
+
+        ``rest_length`` L (m, default: the current distance), ``compliance`` α (m/N, default 0:
+        rigid), ``damping`` β (N·s/m, default 0; acts only with α > 0). Its force λ/h² (N) is
+        negative when the link is stretched."""
+    def add_bending_constraint(
+        self, p0: int, p1: int, p2: int, p3: int, *, compliance: float = 0.0, damping: float = 0.0
+    ) -> int:
+        """Dihedral bending over the edge p0–p1 of triangles (p0, p1, p2) and (p1, p0, p3):
+        ``C = θ − θ0`` (rad; θ0 the current angle). ``compliance`` in rad/(N·m), ``damping`` in
+        N·m·s/rad; the force λ/h² is the bending moment (N·m)."""
+    def add_volume_constraint(self, particles: Sequence[int], *, compliance: float = 0.0, damping: float = 0.0) -> int:
+        """Volume of the tetrahedron of 4 particles, ``C = V − V0`` (m³; V0 the current volume).
+        ``compliance`` in m³/Pa, ``damping`` in Pa·s/m³; the force λ/h² is a pressure (Pa)."""
+    def add_mesh_volume_constraint(
+        self, triangles: Any, *, compliance: float = 0.0, damping: float = 0.0, pressure: float = 1.0
+    ) -> int:
+        """Volume enclosed by a closed mesh of particles (``triangles`` (T, 3) particle indices,
+        counter-clockwise from outside): ``C = V − pressure·V0`` (m³). Units as for a tetrahedron."""
+    def add_attachment(
+        self,
+        particle: int,
+        body: int,
+        *,
+        point: ArrayLike | None = None,
+        rest_length: float = 0.0,
+        compliance: float = 0.0,
+        damping: float = 0.0,
+    ) -> int:
+        """Attaches ``particle`` to the point ``point`` (3,) (m, world, at build; default the
+        particle's position) of ``body``, which moves with the body: ``C = |x − a| − rest_length``.
+        The body takes its share through its generalized inverse mass (fixed, kinematic and
+        sleeping bodies do not move). Units as for a distance constraint."""
+    def add_shape_matching(
+        self,
+        particles: Sequence[int],
+        *,
+        mode: str = "linear",
+        stiffness: float = 1.0,
+        beta: float = 0.5,
+        preserve_volume: bool = True,
+        plastic_yield: float | None = None,
+        plastic_creep: float = 0.0,
+        plastic_max: float = ...,
+    ) -> int:
+        """A shape-matching cluster (Müller et al. 2005) over distinct ``particles``; returns its index.
+
+        ``mode``: "rigid" (≥ 3 non-collinear particles), "linear" or "quadratic" (spanning a
+        volume; ≥ 4 and ≥ 10). ``stiffness`` in [0, 1]: fraction of the way to the goal per substep
+        (default 1). ``beta`` in [0, 1]: deformable (1) vs rigid (0) goal (default 0.5).
+        ``preserve_volume``: linear goals scaled to det 1 (default True). Plasticity (off unless
+        ``plastic_yield`` is given): beyond the elastic strain ``plastic_yield`` (‖S − I‖_F) the
+        rest shape flows at ``plastic_creep`` (1/s) up to ``plastic_max`` (‖Sp − I‖_F, default
+        unbounded), keeping its volume. Overlapping clusters share their particles' mass."""
+    def add_rope(
+        self,
+        start: ArrayLike,
+        end: ArrayLike,
+        segments: int,
+        *,
+        mass: float = 1.0,
+        radius: float = 0.0,
+        friction: float = 0.5,
+        compliance: float = 0.0,
+        damping: float = 0.0,
+        pinned: Sequence[int] = ...,
+    ) -> range:
+        """A rope from ``start`` to ``end`` (m): ``segments + 1`` particles sharing ``mass`` (kg,
+        total) joined by ``segments`` distance constraints (added in order). ``pinned``: local
+        indices (0 = start) of pinned particles. Returns the particles' index range."""
+    def add_cloth(
+        self,
+        origin: ArrayLike,
+        u: ArrayLike,
+        v: ArrayLike,
+        resolution: tuple[int, int],
+        *,
+        mass: float = 1.0,
+        radius: float = 0.0,
+        friction: float = 0.5,
+        compliance: float = 0.0,
+        damping: float = 0.0,
+        bending_compliance: float | None = None,
+        pinned: Sequence[int] = ...,
+    ) -> range:
+        """A cloth of ``resolution = (nu, nv)`` particles at ``origin + i/(nu−1)·u + j/(nv−1)·v``
+        (m), local index ``j·nu + i``, sharing ``mass`` (kg, total). Distance constraints on every
+        triangle edge (compliance m/N), then dihedral bending on every interior edge if
+        ``bending_compliance`` (rad/(N·m)) is given. Returns the particles' index range."""
+    def add_soft_box(
+        self,
+        center: ArrayLike,
+        half_extents: ArrayLike,
+        cells: tuple[int, int, int],
+        *,
+        mass: float = 1.0,
+        radius: float = 0.0,
+        friction: float = 0.5,
+        compliance: float = 0.0,
+        damping: float = 0.0,
+        volume_compliance: float | None = None,
+    ) -> range:
+        """An axis-aligned box (m) of ``cells`` cubes, each split into six tetrahedra: distance
+        constraints on every tetrahedron edge, then a volume constraint per tetrahedron if
+        ``volume_compliance`` (m³/Pa) is given. Returns the particles' index range."""
+    def add_shape_matched_body(
+        self,
+        source: Shape | ArrayLike,
+        *,
+        spacing: float | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+        mass: float = 1.0,
+        radius: float = 0.0,
+        friction: float = 0.5,
+        mode: str = "linear",
+        stiffness: float = 1.0,
+        beta: float = 0.5,
+        preserve_volume: bool = True,
+        plastic_yield: float | None = None,
+        plastic_creep: float = 0.0,
+        plastic_max: float = ...,
+        cluster_size: float | None = None,
+    ) -> tuple[range, list[int]]:
+        """A shape-matched body: particles at the points (N, 3) of ``source``, or filling the shape
+        ``source`` on a grid of ``spacing`` (m; a mesh adds its vertices), placed by ``position``
+        and ``orientation`` (x, y, z, w). One cluster over all of them, or overlapping clusters of
+        edge ``2·cluster_size`` (m) on a grid of that spacing. It collides through its particles.
+        Returns (particle range, cluster indices); cluster parameters as in ``add_shape_matching``."""
 
 @final
 class Bodies:
@@ -328,6 +487,27 @@ class Bodies:
     @property
     def angular_momentum(self) -> _F64:
         """(N, 3) spin angular momentum I ω, world (kg·m²/s); read-only, refreshed by each step."""
+
+@final
+class Particles:
+    """NumPy views of a world's particles; each view keeps the world alive."""
+
+    def __len__(self) -> int: ...
+    @property
+    def position(self) -> _F64:
+        """(M, 3) positions, world (m); writable."""
+    @property
+    def velocity(self) -> _F64:
+        """(M, 3) velocities, world (m/s); writable."""
+    @property
+    def inverse_mass(self) -> _F64:
+        """(M,) 1/mass (1/kg), 0 for pinned particles; read-only."""
+    @property
+    def mass(self) -> _F64:
+        """(M,) mass (kg), also of pinned particles; read-only."""
+    @property
+    def radius(self) -> _F64:
+        """(M,) collision radius (m); read-only."""
 
 @final
 class World:
@@ -386,3 +566,12 @@ class World:
     def joint_torques(self) -> _F64:
         """(J, 3) couple (N·m, world) of each joint's angular constraints on body a over
         the last substep: with the force, the wrench about a's anchor."""
+    @property
+    def particles(self) -> Particles:
+        """The particles, as NumPy views."""
+    def constraint_forces(self) -> _F64:
+        """(C,) λ/h² of every particle constraint at the last substep, by constraint index: the
+        generalized force along the constraint's gradient (N, N·m or Pa)."""
+    def clusters(self) -> dict[str, Any]:
+        """Shape-matching clusters at the last substep (K of them): ``center`` (K, 3) (m),
+        ``rotation`` (K, 3, 3), ``plastic`` (K, 3, 3) the plastic deformation Sp."""

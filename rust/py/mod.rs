@@ -6,6 +6,7 @@ mod errors;
 mod joints;
 mod mass;
 mod polar;
+mod particles;
 mod scene;
 mod shapes;
 mod views;
@@ -27,6 +28,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<world::PyWorld>()?;
     m.add_class::<views::PyBodies>()?;
+    m.add_class::<particles::PyParticles>()?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;

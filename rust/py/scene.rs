@@ -18,7 +18,7 @@ use crate::world::{BodySpec, Inertia, Scene, Settings};
 /// A description of what to simulate. `gravity` (3,) in m/s², default (0, 0, −9.81).
 #[pyclass(name = "Scene", module = "rigidrs._core")]
 pub struct PyScene {
-    inner: Scene,
+    pub(crate) inner: Scene,
 }
 
 fn inertia_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Inertia> {

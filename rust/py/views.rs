@@ -18,7 +18,7 @@ pub struct PyBodies {
 ///
 /// Safety: `ptr` must point into a `Vec` of the world that holds `len * width`
 /// doubles and is never reallocated while the world lives.
-unsafe fn view<'py>(
+pub(crate) unsafe fn view<'py>(
     world: &Bound<'py, PyWorld>,
     ptr: *const f64,
     shape: &[usize],

@@ -38,7 +38,7 @@ pub struct Collision {
     jointed: Vec<(u32, u32)>,
 }
 
-fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
+pub(crate) fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
     let (shape, pose) = (d.shape.as_ref()?, d.shape_pose);
     let local = pose * shape.parry_pose;
     let infinite = matches!(shape.kind, crate::body::shape::ShapeKind::Plane { .. });

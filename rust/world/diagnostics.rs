@@ -1,4 +1,4 @@
-//! Energy and momentum of a world, over its dynamic bodies.
+//! Energy and momentum of a world, over its dynamic bodies and movable particles.
 
 use super::World;
 use crate::body::BodyKind;
@@ -18,18 +18,21 @@ impl World {
                 let w = Vec3::from(b.angular_velocity[i]);
                 0.5 * b.mass[i] * v.norm_squared() + 0.5 * w.dot(&b.spin_momentum(i))
             })
-            .sum()
+            .sum::<f64>()
+            + self.particle_sums().kinetic
     }
 
     /// Gravitational potential energy `−Σ m g·p` (J), zero at the origin.
     pub fn potential_energy(&self) -> f64 {
         let g = self.gravity;
-        self.dynamic().map(|i| -self.bodies.mass[i] * g.dot(&Vec3::from(self.bodies.position[i]))).sum()
+        self.dynamic().map(|i| -self.bodies.mass[i] * g.dot(&Vec3::from(self.bodies.position[i]))).sum::<f64>()
+            + self.particle_sums().potential
     }
 
     /// Total linear momentum `Σ m v` (kg·m/s).
     pub fn linear_momentum(&self) -> Vec3 {
-        self.dynamic().map(|i| self.bodies.mass[i] * Vec3::from(self.bodies.linear_velocity[i])).sum()
+        self.dynamic().map(|i| self.bodies.mass[i] * Vec3::from(self.bodies.linear_velocity[i])).sum::<Vec3>()
+            + self.particle_sums().linear
     }
 
     /// Total angular momentum about the world origin, `Σ p × m v + I ω` (kg·m²/s).
@@ -40,6 +43,7 @@ impl World {
                 let p = Vec3::from(b.position[i]);
                 p.cross(&(b.mass[i] * Vec3::from(b.linear_velocity[i]))) + b.spin_momentum(i)
             })
-            .sum()
+            .sum::<Vec3>()
+            + self.particle_sums().angular
     }
 }

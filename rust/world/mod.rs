@@ -4,6 +4,7 @@
 pub mod collision;
 pub mod diagnostics;
 pub mod joints;
+pub mod particles;
 pub mod pipeline;
 pub mod profile;
 pub mod scene;

@@ -16,6 +16,13 @@
 //! splittings that close with a kick, that kick) acts on the corrected state.
 //! Contacts therefore see the joints' corrections in the relax pass and in the
 //! next substep; joints see the contact impulses through the drift.
+//!
+//! Particles (XPBD) and shape matching run each substep after the joints
+//! and before CCD, the contact relax pass and the closing kick: `xpbd`
+//! (predict), `shape_matching` (only with clusters), `xpbd` (project constraints
+//! and collisions, update velocities); see `crate::xpbd::solver`. Particles see
+//! the bodies at their drifted poses, and what they do to bodies (attachments,
+//! contacts) is then seen by the relax pass.
 
 use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator};
 
@@ -64,6 +71,12 @@ pub enum StageKind {
     Sleep,
     /// XPBD projection of the joints (after the last drift of a substep).
     Joints,
+    /// Particles: prediction by their velocities and gravity.
+    ParticlePredict,
+    /// Shape matching of the particle clusters.
+    ShapeMatching,
+    /// Particles: constraint and collision projection, then velocities.
+    ParticleProject,
 }
 
 /// One stage: what it does, the fraction of the (sub)step it covers, and its
@@ -104,6 +117,8 @@ impl Stage {
             StageKind::Ccd => "ccd",
             StageKind::Sleep => "sleep",
             StageKind::Joints => "joints",
+            StageKind::ParticlePredict | StageKind::ParticleProject => "xpbd",
+            StageKind::ShapeMatching => "shape_matching",
         }
     }
 }
@@ -128,6 +143,9 @@ pub struct PlanInputs {
     pub iterations: u32,
     /// The scene has joints.
     pub joints: bool,
+    /// The scene has particles / shape-matching clusters.
+    pub particles: bool,
+    pub clusters: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -194,6 +212,8 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
                 if inp.collisions {
                     p.sub.push(Stage::new(StageKind::Rk4 { group: Group::Touching, forces: false }, 1.0));
                 }
+                joints(&mut p.sub, inp);
+                particles(&mut p.sub, inp);
             }
             Some(s) => {
                 for (j, &d) in s.drifts.iter().enumerate() {
@@ -202,10 +222,11 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
                     }
                     drift(&mut p.sub, d);
                 }
+                joints(&mut p.sub, inp);
+                particles(&mut p.sub, inp);
                 let last = s.kicks[s.drifts.len()];
                 if inp.forces && last != 0.0 {
                     // The closing kick goes after the relax so resting bodies end at rest.
-                    joints(&mut p.sub, inp);
                     if inp.ccd {
                         p.sub.push(Stage::new(StageKind::Ccd, 1.0));
                     }
@@ -218,8 +239,8 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
             }
         }
     }
-    if dynamic {
-        joints(&mut p.sub, inp);
+    if !dynamic {
+        particles(&mut p.sub, inp);
     }
     if inp.ccd && dynamic {
         p.sub.push(Stage::new(StageKind::Ccd, 1.0));
@@ -234,6 +255,17 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
 fn joints(sub: &mut Vec<Stage>, inp: &PlanInputs) {
     if inp.joints {
         sub.push(Stage::new(StageKind::Joints, 1.0));
+    }
+}
+
+/// The particle stages of a substep (see the module docs).
+fn particles(sub: &mut Vec<Stage>, inp: &PlanInputs) {
+    if inp.particles {
+        sub.push(Stage::new(StageKind::ParticlePredict, 1.0));
+        if inp.clusters {
+            sub.push(Stage::new(StageKind::ShapeMatching, 1.0));
+        }
+        sub.push(Stage::new(StageKind::ParticleProject, 1.0));
     }
 }
 

@@ -93,18 +93,20 @@ pub struct Scene {
     bodies: Vec<BodyDesc>,
     /// Joints, validated and compiled by `add_joint` (see `super::joints`).
     pub(crate) joints: Vec<crate::xpbd::joints::Joint>,
+    /// Particles, their constraints and clusters (see `world::particles`).
+    pub(crate) xpbd: crate::xpbd::XpbdModel,
 }
 
 impl Default for Scene {
     fn default() -> Self {
-        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new(), joints: Vec::new() }
+        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new(), joints: Vec::new(), xpbd: Default::default() }
     }
 }
 
 impl Scene {
     pub fn new(gravity: [f64; 3]) -> Result<Self> {
         finite3("gravity", gravity)?;
-        Ok(Self { gravity, bodies: Vec::new(), joints: Vec::new() })
+        Ok(Self { gravity, bodies: Vec::new(), joints: Vec::new(), xpbd: Default::default() })
     }
 
     pub fn bodies(&self) -> &[BodyDesc] {

@@ -19,6 +19,7 @@ impl World {
     /// names the body.
     pub fn step(&mut self, n: u64) -> Result<()> {
         validate::check(&self.bodies)?;
+        self.check_particles()?;
         validate::normalize(&mut self.bodies);
         self.wake_on_user_input();
         self.replan(false);
@@ -119,6 +120,9 @@ impl World {
             }
             StageKind::Sleep => self.sleep(dt),
             StageKind::Joints => self.project_joints(h),
+            StageKind::ParticlePredict | StageKind::ShapeMatching | StageKind::ParticleProject => {
+                self.particle_stage(stage.kind, hf)
+            }
         }
     }
 

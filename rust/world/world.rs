@@ -31,6 +31,8 @@ pub struct World {
     pub collision: Option<Collision>,
     /// The scene's joints and what they did over the last substep.
     pub joints: crate::xpbd::joints::Joints,
+    /// Particles, their constraints and clusters (none without particles).
+    pub xpbd: Option<crate::xpbd::Xpbd>,
     pub(crate) plan: Plan,
     pub(crate) plan_inputs: PlanInputs,
     pub(crate) steps: u64,
@@ -65,7 +67,10 @@ impl World {
             sleep: collision.is_some() && settings.sleep.enabled,
             iterations: settings.iterations,
             joints: !scene.joints().is_empty(),
+            particles: !scene.xpbd.is_empty(),
+            clusters: !scene.xpbd.clusters.is_empty(),
         };
+        let xpbd = super::particles::compile(scene, &settings)?;
         let mut world = World {
             bodies,
             shapes,
@@ -79,6 +84,7 @@ impl World {
             kinematic,
             collision,
             joints: crate::xpbd::joints::Joints::new(scene.joints().to_vec()),
+            xpbd,
             plan: Plan::default(),
             plan_inputs,
             steps: 0,

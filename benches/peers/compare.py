@@ -2,6 +2,11 @@
 """Medians and ratios of the JSON lines written by run_side_by_side.sh, as Markdown.
 
     python benches/peers/compare.py results.jsonl > COMPARISON.md
+
+Sections for whichever scenes the file holds: free_bodies, dzhanibekov, and the
+contact scenes pyramid (sleep off and on) and ball_pit, each with every engine's
+steps/s and its ratio to MuJoCo, PyBullet and Rapier (1 thread) run with the same
+sleep setting, the physics outcome, and rigidrs's `world.profile()` per stage.
 """
 import argparse
 import datetime
@@ -34,9 +39,9 @@ def med(runs, key):
     return float(np.median(vals)) if vals else float("nan")
 
 
-def rng(runs, key, scale=1.0):
+def rng(runs, key, scale=1.0, digits=2):
     vals = [r[key] * scale for r in runs if r.get(key) is not None]
-    return f"{min(vals):.2f}–{max(vals):.2f}" if len(vals) > 1 else ""
+    return f"{min(vals):.{digits}f}–{max(vals):.{digits}f}" if len(vals) > 1 else ""
 
 
 def main():
@@ -102,6 +107,88 @@ def main():
             print(f"| {e} | {v} | {med(runs, 'E_rel_drift'):+.1e} | {med(runs, 'L_rel_drift'):+.1e} | "
                   f"{med(runs, 'E_max_abs_drift'):.1e} | {med(runs, 'flip_period_rel_err'):+.1e} | "
                   f"{med(runs, 'n_flips'):.0f} | {med(runs, 'wall_s'):.2f} |")
+
+    for scene in ("pyramid", "ball_pit"):
+        runs = {k[1:]: v for k, v in groups.items() if k[0] == scene}
+        if runs:
+            contact_scene(scene, runs)
+
+
+CONTACT_BASELINES = {"MuJoCo": ("mujoco", "Euler/"), "PyBullet": ("pybullet", "maximal"),
+                     "Rapier": ("rapier3d", "threads=1")}  # variant without ",sleep": a prefix for MuJoCo, exact otherwise
+
+
+def is_sleep(variant):
+    return variant.endswith(",sleep")
+
+
+def baseline(runs, engine, variant, sleep):
+    """Median steps/s of the peer's default run with the given sleep setting, or None."""
+    for (e, v), r in runs.items():
+        base = v.removesuffix(",sleep")
+        if e == engine and is_sleep(v) == sleep and (base.startswith(variant) if engine == "mujoco" else base == variant):
+            return med(r, "steps_per_s")
+    return None
+
+
+def outcome(scene, runs):
+    m = lambda k: med(runs, k)  # noqa: E731
+    has = lambda k: runs[0].get(k) is not None  # noqa: E731  (rigidrs's extra fields)
+    depth = ""
+    if has("peak_depth"):
+        depth = f"; penetration {1e3 * m('max_depth'):.1f} mm at the end"
+        if has("max_depth_container"):
+            depth += f" ({1e3 * m('max_depth_container'):.1f} against the container)"
+        depth += f", peak {1e3 * m('peak_depth'):.1f}"
+    if scene == "pyramid":
+        state = "**collapsed**" if m("collapsed") >= 0.5 else ("stands" if m("max_disp") < 0.03 else "stands, > 3 cm")
+        horiz = f", horizontal {100 * m('max_horiz_disp'):.1f} cm" if has("max_horiz_disp") else ""
+        asleep = f"; {m('asleep'):.0f} asleep at the end" if has("asleep") and is_sleep(runs[0]["variant"]) else ""
+        return (f"{state}: max disp {100 * m('max_disp'):.1f} cm{horiz} (peak {100 * m('peak_disp'):.1f}, "
+                f"{m('n_moved'):.0f} moved > 0.5 m), apex sinks {100 * -m('top_dz'):.1f} cm" + depth + asleep)
+    bad = m("escaped") + m("floor_penetrated") + (m("wall_penetrated") if has("wall_penetrated") else 0)
+    state = "all in the box" if bad == 0 else "**balls out of the box or sunk**"
+    return (f"{state}: escaped {m('escaped'):.0f}, floor-penetrated {m('floor_penetrated'):.0f}, lowest centre "
+            f"{1e3 * m('min_z'):.1f} mm (r = 100), max speed at the end {m('max_speed_end'):.3f} m/s" + depth)
+
+
+def contact_scene(scene, runs):
+    first = next(iter(runs.values()))[0]
+    title = {"pyramid": f"pyramid of {first['n']} boxes", "ball_pit": f"ball pit, {first['n']} spheres"}[scene]
+    print(f"\n## {title}: {first['steps']} steps of {first['dt']:.6g} s, stepped one call per step\n")
+    print("Ratios: steps/s of the row ÷ steps/s of the peer run with the same sleep setting (> 1: the row is faster).\n")
+    print("| engine | variant | steps/s (min–max) | " + " | ".join(f"÷ {b}" for b in CONTACT_BASELINES) + " | outcome |")
+    print("|---|---|---|" + "---|" * len(CONTACT_BASELINES) + "---|")
+    order = sorted(runs, key=lambda k: (is_sleep(k[1]), k[0] == "rigidrs", k[0], k[1]))
+    for e, v in order:
+        r = runs[(e, v)]
+        s = med(r, "steps_per_s")
+        ratios = []
+        for eng, prefix in CONTACT_BASELINES.values():
+            b = baseline(runs, eng, prefix, is_sleep(v))
+            ratios.append(f"{s / b:.2f}" if b else "—")
+        print(f"| {e} | {v} | {s:.0f} ({rng(r, 'steps_per_s', digits=0)}) | " + " | ".join(ratios)
+              + f" | {outcome(scene, r)} |")
+    rig = [(v, r) for (e, v), r in runs.items() if e == "rigidrs" and r[0].get("profile_s_per_step")]
+    if rig:
+        print(f"\nrigidrs `world.profile()` over the timed loop ({scene}): µs per step per stage (wall clock, "
+              "median), its share of the profiled total, and that share of the median CPU time per step:\n")
+        stages = []
+        for _, r in rig:
+            for k in r[0]["profile_s_per_step"]:
+                if k not in stages:
+                    stages.append(k)
+        print("| variant | " + " | ".join(stages) + " | profiled total | CPU time per step |")
+        print("|---|" + "---|" * (len(stages) + 2))
+        for v, r in sorted(rig):
+            cpu = med(r, "step_s") / r[0]["steps"]
+            cells = []
+            for k in stages:
+                us = float(np.median([x["profile_s_per_step"].get(k, 0.0) for x in r])) * 1e6
+                share = float(np.median([x["profile_share"].get(k, 0.0) for x in r]))
+                cells.append(f"{us:.0f} ({share:.0%}; {share * cpu * 1e6:.0f})" if us >= 0.5 else "0")
+            tot = float(np.median([sum(x["profile_s_per_step"].values()) for x in r])) * 1e6
+            print(f"| {v} | " + " | ".join(cells) + f" | {tot:.0f} | {cpu * 1e6:.0f} |")
 
 
 if __name__ == "__main__":

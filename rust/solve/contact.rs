@@ -203,7 +203,7 @@ impl ContactSolver {
             let Some(state) = narrow.pairs.get(&(ci, cj)) else { continue };
             let ctx = self.pair_context(colliders, b, (ci, cj));
             for (m, manifold) in state.manifolds.iter().enumerate() {
-                self.push_manifold(manifold, &ctx, m as u32, true);
+                self.push_manifold(manifold, &ctx, m as u32, true, state.prediction);
             }
         }
     }
@@ -230,10 +230,11 @@ impl ContactSolver {
         }
     }
 
-    /// Appends the constraint of one parry manifold (nothing if it has no point);
-    /// `warm`: start from the impulses the manifold carries.
-    pub(crate) fn push_manifold(&mut self, manifold: &Manifold, ctx: &PairContext, index: u32, warm: bool) {
-        if manifold.points.is_empty() {
+    /// Appends the constraint of one parry manifold, of its points no further
+    /// apart than `reach` (m; nothing if none is); `warm`: start from the impulses
+    /// the manifold carries.
+    pub(crate) fn push_manifold(&mut self, manifold: &Manifold, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
+        if !manifold.points.iter().any(|tp| tp.dist <= reach) {
             return;
         }
         let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
@@ -242,7 +243,7 @@ impl ContactSolver {
         let t1 = orthonormal(&n);
         let t2 = n.cross(&t1);
         let start = self.points.len() as u32;
-        for (k, tp) in manifold.points.iter().enumerate() {
+        for (k, tp) in manifold.points.iter().enumerate().filter(|(_, tp)| tp.dist <= reach) {
             let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
             let (r1, r2) = (mid - ctx.x1, mid - ctx.x2);
             let mut p = Point {

@@ -253,6 +253,13 @@ SHAPES = {
     "TriMesh repeated vertex": (lambda: rr.TriMesh(TET_V, np.vstack([TET_T[:3], [[1, 1, 3]]])), rr.ShapeError, ["TriMesh triangles[3]", "repeats"]),
     "TriMesh NaN vertex": (lambda: rr.TriMesh(replaced(TET_V, (3, 2), NAN), TET_T), rr.RigidError, ["TriMesh vertices[3]", "finite"]),
     "TriMesh no triangles": (lambda: rr.TriMesh(TET_V, np.zeros((0, 3))), rr.ShapeError, ["TriMesh", "triangle"]),
+    # Closed and consistently oriented, but three of its vertices are collinear: the
+    # triangle through them has no area.
+    "TriMesh zero-area triangle": (
+        lambda: rr.TriMesh(np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 0, 1.0]]), TET_T),
+        rr.ShapeError,
+        ["TriMesh triangles[", "no area"],
+    ),
     "TriMesh triangles shape": (lambda: rr.TriMesh(TET_V, TET_T[:, :2]), ValueError, ["TriMesh triangles", "shape"]),
     "TriMesh vertices shape": (lambda: rr.TriMesh(TET_V[:, :2], TET_T), ValueError, ["TriMesh vertices", "shape"]),
 }
@@ -274,8 +281,6 @@ NO_MASS = {
     "open TriMesh": (rr.TriMesh(TET_V, TET_T[:3]), rr.ShapeError, ["TriMesh", "closed"]),
     "inward TriMesh": (rr.TriMesh(TET_V, TET_T[:, ::-1]), rr.ShapeError, ["TriMesh", "inward"]),
     "double-sided flat TriMesh": (rr.TriMesh(TET_V[:3], [[0, 1, 2], [0, 2, 1]]), rr.ShapeError, ["TriMesh", "flat"]),
-    # Closed and consistently oriented, but two of its vertices coincide in space.
-    "zero-volume TriMesh": (rr.TriMesh(np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 0, 1.0]]), TET_T), rr.ShapeError, ["TriMesh"]),
     # Every triangle used twice the same way: not a consistently oriented surface.
     "TriMesh with a duplicated face": (rr.TriMesh(TET_V, np.vstack([TET_T, TET_T[:1]])), rr.ShapeError, ["TriMesh", "closed"]),
     "Plane": (rr.Plane(), rr.RigidError, ["Plane", "fixed"]),

@@ -113,9 +113,10 @@ def test_pyramid_of_210_boxes_stands_for_60_s(sleep):
 
 @pytest.mark.xfail(
     strict=True,
-    reason="1000:1 mass ratio: the 1000 kg box crushes the 1 kg box into the ground (penetration 0.77 m "
-    "within 1 s), slides off it and falls (1.6 m sideways); also with iterations=4, substeps=8, "
-    "substeps=16 + iterations=4, or contact_hertz=0",
+    reason="1000:1 mass ratio: with shock propagation on heavily loaded supports the 1000 kg box now stands "
+    "on the 1 kg box (it collapsed through it before), but the first steps, before the load is known from "
+    "warm starting, sink it 22 mm (bar: the 5 mm slop), and without sleep it keeps jittering (drift "
+    "22 mm after settling, RMS speed 1.3 cm/s over 10 s)",
 )
 @pytest.mark.parametrize("sleep", [True, False], ids=["sleep", "no sleep"])
 def test_heavy_box_on_a_light_box_stands(sleep):

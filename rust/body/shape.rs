@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion};
 use parry3d_f64::mass_properties::MassProperties;
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{SharedShape, TriMeshFlags};
 
 use super::mass::MassProps;
 use crate::error::{finite3, positive, Error, Result};
@@ -145,9 +145,20 @@ impl Shape {
             if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
                 return Err(Error::shape(format!("TriMesh triangles[{t}] repeats a vertex: {tri:?}")));
             }
+            let [a, b, c] = tri.map(|i| Vec3::from(vertices[i as usize]));
+            let (e1, e2) = (b - a, c - a);
+            if e1.cross(&e2).norm() <= 1e-12 * e1.norm_squared().max(e2.norm_squared()) {
+                return Err(Error::shape(format!(
+                    "TriMesh triangles[{t}] has no area (its vertices are collinear): {tri:?}"
+                )));
+            }
         }
         let pts: Vec<Point3<f64>> = vertices.iter().map(|p| Point3::from(*p)).collect();
-        let parry = SharedShape::trimesh(pts, triangles.clone())
+        // Internal edges get the normals of their faces, not their own: a ball rolling
+        // over the seam between two triangles of a flat floor feels no bump.
+        let flags = TriMeshFlags::FIX_INTERNAL_EDGES;
+        let parry = SharedShape::trimesh_with_flags(pts.clone(), triangles.clone(), flags)
+            .or_else(|_| SharedShape::trimesh(pts, triangles.clone()))
             .map_err(|e| Error::shape(format!("TriMesh: {e:?}")))?;
         let kind = ShapeKind::TriMesh { vertices: Arc::new(vertices), triangles: Arc::new(triangles) };
         Ok(Self::new(kind, parry, Isometry3::identity()))
@@ -274,6 +285,13 @@ fn hull_mesh(points: &[[f64; 3]]) -> Result<(Vec<Point3<f64>>, Vec<[u32; 3]>)> {
         .map(|w| source.get(&key(w)).map(|&i| Point3::from(points[i])))
         .collect::<Option<Vec<_>>>()
         .ok_or_else(failed)?;
+    // A whitening with a reflection (eigenvectors of either handedness) turns the
+    // hull's outward winding inward once mapped back: undo it.
+    let triangles = if whiten.determinant() < 0.0 {
+        triangles.into_iter().map(|[a, b, c]| [a, c, b]).collect()
+    } else {
+        triangles
+    };
     Ok((vertices, triangles))
 }
 
@@ -368,5 +386,25 @@ mod tests {
     fn coplanar_hull_is_rejected() {
         let pts = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
         assert!(Shape::convex_hull(pts).is_err());
+    }
+
+    #[test]
+    fn hull_faces_point_outward_whatever_the_whitening() {
+        // A hexagonal prism: its covariance eigenvectors come out left-handed, which
+        // once inverted the hull's winding (a hull fell through a plane).
+        let mut pts = Vec::new();
+        for k in 0..6 {
+            let a = k as f64 * std::f64::consts::PI / 3.0;
+            for z in [-0.3, 0.3] {
+                pts.push([0.4 * a.cos(), 0.4 * a.sin(), z]);
+            }
+        }
+        let (v, t) = hull_mesh(&pts).unwrap();
+        let centre = v.iter().fold(Vec3::zeros(), |a, p| a + p.coords) / v.len() as f64;
+        for tri in &t {
+            let [a, b, c] = tri.map(|i| v[i as usize].coords);
+            let outward = (b - a).cross(&(c - a)).dot(&(a - centre));
+            assert!(outward > 0.0, "triangle {tri:?} faces inward");
+        }
     }
 }

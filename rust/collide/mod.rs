@@ -6,6 +6,7 @@ pub mod ccd;
 pub mod collider;
 pub mod material;
 pub mod narrow_phase;
+pub mod plane_hull;
 
 pub use collider::{Collider, Filter};
 pub use material::Material;

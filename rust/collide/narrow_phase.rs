@@ -27,6 +27,9 @@ pub type Manifold = ContactManifold<(), ContactData>;
 #[derive(Default)]
 pub struct PairState {
     pub manifolds: Vec<Manifold>,
+    /// How far ahead contacts were predicted for this pair this step (m); parry
+    /// may report points of a manifold beyond it, which are not contacts yet.
+    pub prediction: f64,
     workspace: Option<ContactManifoldsWorkspace>,
     stamp: u64,
 }
@@ -74,20 +77,61 @@ impl NarrowPhase {
             // without CCD may tunnel, with it never does.
             let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
             let prediction = pred.margin + (pred.dt * approach_bound(c1, c2, bodies)).min(reach);
-            // Unsupported pairs are rejected when the world is built; none reach here.
-            let _ = DefaultQueryDispatcher.contact_manifolds(
-                &pos12,
-                c1.shape.as_ref(),
-                c2.shape.as_ref(),
-                prediction,
-                &mut state.manifolds,
-                &mut state.workspace,
-            );
-            if state.manifolds.iter().any(|m| !m.points.is_empty()) {
+            state.prediction = prediction;
+            if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
+                // Unsupported pairs are rejected when the world is built; none reach here.
+                let _ = DefaultQueryDispatcher.contact_manifolds(
+                    &pos12,
+                    c1.shape.as_ref(),
+                    c2.shape.as_ref(),
+                    prediction,
+                    &mut state.manifolds,
+                    &mut state.workspace,
+                );
+            }
+            if state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction)) {
                 self.touching.push((i, j));
             }
         }
         self.pairs.retain(|&(i, j), s| s.stamp == stamp || dormant(i, j));
+    }
+}
+
+/// The half-space–hull pair, either way round, by [`super::plane_hull`].
+/// Returns whether it was one.
+fn plane_and_hull(c1: &Collider, c2: &Collider, pos12: &nalgebra::Isometry3<f64>, prediction: f64, manifolds: &mut Vec<Manifold>) -> bool {
+    let flipped = match (c1.shape.as_halfspace(), c2.shape.as_halfspace()) {
+        (Some(_), None) if c2.shape.as_convex_polyhedron().is_some() => false,
+        (None, Some(_)) if c1.shape.as_convex_polyhedron().is_some() => true,
+        _ => return false,
+    };
+    let (plane, hull, pos) = if flipped { (c2, c1, pos12.inverse()) } else { (c1, c2, *pos12) };
+    let (Some(plane), Some(hull)) = (plane.shape.as_halfspace(), hull.shape.as_convex_polyhedron()) else {
+        return false;
+    };
+    manifolds.truncate(1);
+    if manifolds.is_empty() {
+        manifolds.push(Manifold::new());
+    }
+    let m = &mut manifolds[0];
+    if flipped {
+        swap_sides(m);
+    }
+    super::plane_hull::plane_hull(&pos, plane, hull, prediction, m);
+    if flipped {
+        swap_sides(m);
+    }
+    true
+}
+
+/// The same manifold seen from the other shape.
+fn swap_sides(m: &mut Manifold) {
+    std::mem::swap(&mut m.local_n1, &mut m.local_n2);
+    std::mem::swap(&mut m.subshape1, &mut m.subshape2);
+    std::mem::swap(&mut m.subshape_pos1, &mut m.subshape_pos2);
+    for p in &mut m.points {
+        std::mem::swap(&mut p.local_p1, &mut p.local_p2);
+        std::mem::swap(&mut p.fid1, &mut p.fid2);
     }
 }
 
@@ -98,7 +142,9 @@ fn approach_bound(c1: &Collider, c2: &Collider, b: &Bodies) -> f64 {
         let v = b.linear_velocity[i];
         let w = b.angular_velocity[i];
         let n = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        n(v) + n(w) * c.reach
+        // A half-space never turns (its reach is infinite): no 0·∞ here.
+        let w = n(w);
+        n(v) + if w > 0.0 { w * c.reach } else { 0.0 }
     };
     speed(c1) + speed(c2)
 }

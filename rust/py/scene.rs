@@ -21,6 +21,11 @@ pub struct PyScene {
     pub(crate) inner: Scene,
 }
 
+/// A 32-bit collision filter word.
+fn bits(x: i64, name: &str) -> PyResult<u32> {
+    u32::try_from(x).map_err(|_| PyValueError::new_err(format!("{name} must be a 32-bit mask in [0, 2^32), got {x}")))
+}
+
 fn inertia_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Inertia> {
     let (v, shape) = float_array(obj, name)?;
     match shape.as_slice() {
@@ -75,8 +80,8 @@ impl PyScene {
         static_friction: Option<f64>,
         restitution: f64,
         ccd: bool,
-        collision_group: u32,
-        collision_mask: u32,
+        collision_group: i64,
+        collision_mask: i64,
     ) -> PyResult<usize> {
         let index = self.inner.bodies().len();
         let field = |name: &str| format!("body {index}: {name}");
@@ -90,7 +95,7 @@ impl PyScene {
             material: Material::new(friction, static_friction, restitution)
                 .map_err(|e| e.context(format!("body {index}")))
                 .py_err()?,
-            filter: Filter { group: collision_group, mask: collision_mask },
+            filter: Filter { group: bits(collision_group, &field("collision_group"))?, mask: bits(collision_mask, &field("collision_mask"))? },
             ccd,
             ..Default::default()
         };

@@ -175,7 +175,10 @@ impl PyCompound {
     #[new]
     fn new(parts: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
         let mut out = Vec::new();
-        for (k, item) in parts.try_iter()?.enumerate() {
+        let items = parts.try_iter().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err("Compound parts must be a sequence of (shape, position[, orientation]) tuples")
+        })?;
+        for (k, item) in items.enumerate() {
             let item = item?;
             let name = format!("Compound part {k}");
             let tuple = item.cast::<pyo3::types::PyTuple>().map_err(|_| {

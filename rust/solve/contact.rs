@@ -87,6 +87,8 @@ pub struct Point {
     pub point: Vec3,
     /// `1/K` with `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` (kg).
     pub normal_mass: f64,
+    /// The same with the lower body of a projected support contact held still (kg).
+    pub shock_mass: f64,
     /// Accumulated normal impulse of the current substep (N·s).
     pub normal_impulse: f64,
     /// Normal impulse summed over the step, for reporting (N·s).
@@ -118,6 +120,9 @@ pub struct Constraint {
     pub manifold: u32,
     /// Whether its points started this step without impulses to warm start from.
     pub fresh: bool,
+    /// Shock propagation (see `super::shock`): which body is held still, 1 or 2;
+    /// 0 when the contact is not projected.
+    pub frozen: u8,
 }
 
 /// The contact solver's state for one step.
@@ -139,6 +144,8 @@ pub struct ContactSolver {
     pub inv_h: f64,
     pub settings: SolverSettings,
     pub(crate) substeps_done: u32,
+    /// Projected support contacts, `(height, constraint)` from the ground up.
+    pub(crate) shock: Vec<(u32, u32)>,
     /// Whether the solver bodies have been gathered since `prepare`.
     pub(crate) gathered: bool,
 }
@@ -180,7 +187,7 @@ impl ContactSolver {
     }
 
     /// Builds the constraints of this step from the touching pairs.
-    pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, h: f64) {
+    pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, h: f64, gravity: &Vec3) {
         for s in &self.bodies[self.bodies.len().min(1)..] {
             self.slot[s.body as usize] = 0;
             self.touching[s.body as usize] = false;
@@ -203,9 +210,12 @@ impl ContactSolver {
             let Some(state) = narrow.pairs.get(&(ci, cj)) else { continue };
             let ctx = self.pair_context(colliders, b, (ci, cj));
             for (m, manifold) in state.manifolds.iter().enumerate() {
-                self.push_manifold(manifold, &ctx, m as u32, true);
+                self.push_manifold(manifold, &ctx, m as u32, true, state.prediction);
             }
         }
+        let g = gravity.norm();
+        let up = if g > 0.0 { -gravity / g } else { Vec3::zeros() };
+        self.plan_shock(&up, g, h);
     }
 
     /// What the constraints of a collider pair share, at the bodies' current poses.
@@ -230,10 +240,11 @@ impl ContactSolver {
         }
     }
 
-    /// Appends the constraint of one parry manifold (nothing if it has no point);
-    /// `warm`: start from the impulses the manifold carries.
-    pub(crate) fn push_manifold(&mut self, manifold: &Manifold, ctx: &PairContext, index: u32, warm: bool) {
-        if manifold.points.is_empty() {
+    /// Appends the constraint of one parry manifold, of its points no further
+    /// apart than `reach` (m; nothing if none is); `warm`: start from the impulses
+    /// the manifold carries.
+    pub(crate) fn push_manifold(&mut self, manifold: &Manifold, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
+        if !manifold.points.iter().any(|tp| tp.dist <= reach) {
             return;
         }
         let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
@@ -242,7 +253,7 @@ impl ContactSolver {
         let t1 = orthonormal(&n);
         let t2 = n.cross(&t1);
         let start = self.points.len() as u32;
-        for (k, tp) in manifold.points.iter().enumerate() {
+        for (k, tp) in manifold.points.iter().enumerate().filter(|(_, tp)| tp.dist <= reach) {
             let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
             let (r1, r2) = (mid - ctx.x1, mid - ctx.x2);
             let mut p = Point {
@@ -276,6 +287,7 @@ impl ContactSolver {
             pair: ctx.pair,
             manifold: index,
             fresh: !warm || manifold.points.iter().all(|tp| tp.data.normal_impulse == 0.0),
+            frozen: 0,
         };
         let mut patch = Patch::new(&constraint, &self.points[start as usize..], &self.bodies);
         if warm {
@@ -321,6 +333,7 @@ impl ContactSolver {
             self.masses(&mut p, c.s1 as usize, c.s2 as usize, &c.normal);
             self.points[k as usize] = p;
         }
+        self.shock_masses(ci);
         let old = self.patches[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
         self.patches[ci] = Patch {

@@ -109,7 +109,7 @@ impl ContactSolver {
         }
         let ctx = self.pair_context(colliders, b, pair);
         for (m, manifold) in manifolds.iter().enumerate() {
-            self.push_manifold(manifold, &ctx, m as u32, false);
+            self.push_manifold(manifold, &ctx, m as u32, false, reach);
         }
     }
 

@@ -7,6 +7,7 @@ pub mod friction;
 pub mod impacts;
 pub mod impulse;
 pub mod islands;
+pub mod shock;
 pub mod soft;
 pub mod solver_body;
 

@@ -112,6 +112,18 @@ impl Pair {
         self.w2 += p.irn2 * j;
     }
 
+    /// A normal impulse `j` on the upper body of a shock-propagated contact only.
+    #[inline(always)]
+    pub fn apply_normal_to_upper(&mut self, c: &Constraint, p: &Point, j: f64) {
+        if c.frozen == 1 {
+            self.v2 += c.normal * (j * self.m2);
+            self.w2 += p.irn2 * j;
+        } else {
+            self.v1 -= c.normal * (j * self.m1);
+            self.w1 -= p.irn1 * j;
+        }
+    }
+
     /// Tangential velocity of body 2 relative to body 1 at a patch's centre (m/s).
     #[inline(always)]
     pub fn patch_velocity(&self, c: &Constraint, f: &Patch) -> [f64; 2] {

@@ -155,7 +155,7 @@ impl Collision {
 
     /// Manifolds of the candidates, bodies woken by touch, and the constraints of
     /// this step. Returns whether a body woke.
-    pub fn narrow_phase(&mut self, b: &mut Bodies, dt: f64, h: f64) -> bool {
+    pub fn narrow_phase(&mut self, b: &mut Bodies, dt: f64, h: f64, gravity: &Vec3) -> bool {
         let pred = Prediction { margin: self.margin, dt };
         let cols = &self.colliders;
         self.narrow.update(cols, b, &self.candidates, &pred, |i, j| {
@@ -171,7 +171,7 @@ impl Collision {
                 woke |= self.islands.wake(b, bi);
             }
         }
-        self.solver.prepare(&self.narrow, cols, b, h);
+        self.solver.prepare(&self.narrow, cols, b, h, gravity);
         woke
     }
 

@@ -57,6 +57,8 @@ pub enum StageKind {
     Friction { relax: bool },
     /// Non-penetration; `relax`: without position bias.
     Normal { relax: bool },
+    /// Shock propagation over heavily loaded support contacts after a pass.
+    Shock { relax: bool },
     /// `p += h v`.
     Translate,
     /// Rotation of the bodies of one inertia class by the integrator's method.
@@ -103,11 +105,13 @@ impl Stage {
             StageKind::WarmStart
             | StageKind::Normal { relax: false }
             | StageKind::Gather { relax: false }
-            | StageKind::Scatter { relax: false } => "contact_solve",
+            | StageKind::Scatter { relax: false }
+            | StageKind::Shock { relax: false } => "contact_solve",
             StageKind::Friction { .. } => "friction",
-            StageKind::Normal { relax: true } | StageKind::Gather { relax: true } | StageKind::Scatter { relax: true } => {
-                "contact_relax"
-            }
+            StageKind::Normal { relax: true }
+            | StageKind::Gather { relax: true }
+            | StageKind::Scatter { relax: true }
+            | StageKind::Shock { relax: true } => "contact_relax",
             StageKind::Translate => "translate",
             StageKind::Rotate(InertiaClass::Isotropic) => "rotate_isotropic",
             StageKind::Rotate(InertiaClass::Symmetric) => "rotate_symmetric",
@@ -146,6 +150,8 @@ pub struct PlanInputs {
     /// The scene has particles / shape-matching clusters.
     pub particles: bool,
     pub clusters: bool,
+    /// Gravity acts: heavily loaded support contacts may need shock propagation.
+    pub gravity: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -281,6 +287,9 @@ fn solve(sub: &mut Vec<Stage>, inp: &PlanInputs, relax: bool) {
         if inp.friction {
             sub.push(Stage::new(StageKind::Friction { relax }, 1.0));
         }
+    }
+    if inp.gravity {
+        sub.push(Stage::new(StageKind::Shock { relax }, 1.0));
     }
     sub.push(Stage::new(StageKind::Scatter { relax }, 1.0));
 }

@@ -113,6 +113,7 @@ impl World {
             StageKind::WarmStart => self.with_solver(|s, _| s.warm_start()),
             StageKind::Friction { .. } => self.with_solver(|s, _| s.solve_friction()),
             StageKind::Normal { relax } => self.with_solver(|s, _| s.solve_normal(relax)),
+            StageKind::Shock { relax } => self.with_solver(|s, _| s.shock(relax)),
             StageKind::Ccd => {
                 if let Some(c) = self.collision.as_mut() {
                     c.ccd_stage(&mut self.bodies);
@@ -144,7 +145,7 @@ impl World {
     fn narrow_phase(&mut self, h: f64) {
         let dt = self.settings.dt;
         let Some(c) = self.collision.as_mut() else { return };
-        if c.narrow_phase(&mut self.bodies, dt, h) {
+        if c.narrow_phase(&mut self.bodies, dt, h, &self.gravity) {
             self.relist();
         }
         let Some(c) = self.collision.as_ref() else { return };

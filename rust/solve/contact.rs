@@ -32,9 +32,10 @@ pub struct SolverSettings {
     pub max_push_velocity: f64,
     /// Approach speed below which contacts do not bounce (m/s). Default 1; 0 allowed.
     pub restitution_threshold: f64,
-    /// Distance within which contacts are created before touching (m), on top of
-    /// the distance bodies can close in a step. Default 0.005.
-    pub margin: f64,
+    /// Linear slop (m): contacts are created this far before touching, on top of
+    /// the distance bodies can close in a step; resting contacts sink less than
+    /// it (the soft contact's sag is `g/ω²`, 0.28 mm at 30 Hz). Default 0.005.
+    pub slop: f64,
 }
 
 impl Default for SolverSettings {
@@ -44,7 +45,7 @@ impl Default for SolverSettings {
             contact_damping_ratio: 10.0,
             max_push_velocity: 3.0,
             restitution_threshold: 1.0,
-            margin: 0.005,
+            slop: 0.005,
         }
     }
 }

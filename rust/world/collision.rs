@@ -109,7 +109,7 @@ impl Collision {
             ccd,
             bouncy,
             frictional,
-            margin: settings.solver.margin,
+            margin: settings.solver.slop,
             jointed: jointed.to_vec(),
         }))
     }

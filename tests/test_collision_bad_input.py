@@ -201,7 +201,7 @@ def test_open_mesh_floor_is_accepted_as_a_fixed_body():
 # ---------------------------------------------------------------------------
 
 BUILD = {
-    **{f"margin={v}": (dict(margin=v), rr.RigidError, ["margin"]) for v in (-0.001, NAN, INF)},
+    **{f"slop={v}": (dict(slop=v), rr.RigidError, ["slop"]) for v in (-0.001, NAN, INF)},
     "iterations=0": (dict(iterations=0), rr.RigidError, ["iterations"]),
     "iterations=-1": (dict(iterations=-1), ValueError, ["iterations"]),
     "iterations=2**40": (dict(iterations=2**40), ValueError, ["iterations"]),
@@ -232,7 +232,7 @@ def test_build_rejects_bad_contact_settings_and_leaves_the_scene_unchanged(case)
 
 @pytest.mark.parametrize(
     "kwargs",
-    [dict(margin=0.0), dict(restitution_threshold=0.0), dict(contact_hertz=0.0), dict(contact_damping_ratio=0.0),
+    [dict(slop=0.0), dict(restitution_threshold=0.0), dict(contact_hertz=0.0), dict(contact_damping_ratio=0.0),
      dict(sleep_time=0.0), dict(sleep=False)],
     ids=lambda k: next(iter(k.items())).__repr__(),
 )

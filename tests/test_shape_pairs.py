@@ -36,7 +36,7 @@ import rigidrs as rr
 DELTA = 1e-3
 DEPTH_TOL = 1e-12
 NORMAL_TOL = 1e-9
-MARGIN = 0.005  # build(margin=...) default
+MARGIN = 0.005  # build(slop=...) default
 SLOP = 0.005
 
 HEX = np.array([[np.cos(a) * 0.4, np.sin(a) * 0.4, z] for a in np.linspace(0, 2 * np.pi, 7)[:-1] for z in (-0.3, 0.3)])
@@ -187,7 +187,7 @@ def test_face_on_face_gives_a_manifold_to_rest_on(case):
 
 
 def test_no_contact_point_is_reported_beyond_the_margin():
-    # build(margin=...) documents that contacts are predicted this far ahead (bodies at
+    # build(slop=...) documents that contacts are predicted this far ahead (bodies at
     # rest: no travel to add). A point further away is not a contact of this step.
     far = {}
     for lower, upper, lower_dynamic in CASES:

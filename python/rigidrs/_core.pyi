@@ -262,7 +262,7 @@ class Scene:
         *,
         sleep: bool = True,
         restitution_threshold: float = 1.0,
-        margin: float = 0.005,
+        slop: float = 0.005,
         contact_hertz: float = 30.0,
         contact_damping_ratio: float = 10.0,
         max_push_velocity: float = 3.0,
@@ -275,8 +275,9 @@ class Scene:
         ``dt`` (s) per step; ``integrator`` from ``INTEGRATORS`` (default "strang");
         ``substeps`` per step (default: 1 without contacts, 4 with them); ``iterations``
         contact-solver and joint iterations per substep (default 1). Contacts: ``restitution_threshold``
-        (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``margin``
-        (m, contacts are predicted this far ahead, default 0.005), ``contact_hertz`` (Hz,
+        (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
+        (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
+        close in a step; resting penetration stays within it; default 0.005), ``contact_hertz`` (Hz,
         contact stiffness, default 30), ``contact_damping_ratio`` (default 10),
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every

@@ -21,6 +21,21 @@ impl Aabb {
         Self { min: a.mins.coords.into(), max: a.maxs.coords.into() }
     }
 
+    /// Whether this box lies within `o`.
+    #[inline(always)]
+    pub fn inside(&self, o: &Aabb) -> bool {
+        (0..3).all(|k| self.min[k] >= o.min[k] && self.max[k] <= o.max[k])
+    }
+
+    /// The smallest box holding both.
+    pub fn union(mut self, o: &Aabb) -> Self {
+        for k in 0..3 {
+            self.min[k] = self.min[k].min(o.min[k]);
+            self.max[k] = self.max[k].max(o.max[k]);
+        }
+        self
+    }
+
     /// Grows the box by `margin` on every side.
     pub fn loosened(mut self, margin: f64) -> Self {
         for k in 0..3 {

@@ -147,7 +147,7 @@ impl PyScene {
 
     /// Compiles the scene into a `World`. See the stub for the parameters.
     #[pyo3(signature = (dt, integrator="strang", substeps=None, iterations=1, *, sleep=true,
-                        restitution_threshold=1.0, margin=0.005, contact_hertz=30.0,
+                        restitution_threshold=1.0, slop=0.005, contact_hertz=30.0,
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
                         sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5))]
     #[allow(clippy::too_many_arguments)]
@@ -159,7 +159,7 @@ impl PyScene {
         iterations: i64,
         sleep: bool,
         restitution_threshold: f64,
-        margin: f64,
+        slop: f64,
         contact_hertz: f64,
         contact_damping_ratio: f64,
         max_push_velocity: f64,
@@ -174,7 +174,7 @@ impl PyScene {
         };
         s.substeps = substeps.map(|n| small(n, "substeps")).transpose()?;
         s.iterations = small(iterations, "iterations")?;
-        s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, margin };
+        s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, slop };
         s.sleep = SleepSettings { enabled: sleep, linear: sleep_linear, angular: sleep_angular, time: sleep_time };
         Ok(PyWorld::new(self.inner.build(&s).py_err()?))
     }

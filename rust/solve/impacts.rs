@@ -102,7 +102,7 @@ impl ContactSolver {
         let pos12 = c1.pose(b).inv_mul(&c2.pose(b));
         let mut manifolds: Vec<Manifold> = Vec::new();
         let mut workspace = None;
-        let reach = 2.0 * self.settings.margin;
+        let reach = 2.0 * self.settings.slop;
         let found = DefaultQueryDispatcher.contact_manifolds(&pos12, c1.shape.as_ref(), c2.shape.as_ref(), reach, &mut manifolds, &mut workspace);
         if found.is_err() {
             return;

@@ -21,6 +21,10 @@ pub struct Collision {
     finite: Vec<u32>,
     infinite: Vec<u32>,
     boxes: Vec<Aabb>,
+    /// Boxes grown beyond `boxes`, kept until a body leaves its own, and the pairs
+    /// of them that overlap.
+    fat: Vec<Aabb>,
+    sap_pairs: Vec<(u32, u32)>,
     sap: SweepAndPrune,
     candidates: Vec<(u32, u32)>,
     pub narrow: NarrowPhase,
@@ -97,6 +101,8 @@ impl Collision {
         let n = bodies.len();
         Ok(Some(Self {
             boxes: vec![Aabb::default(); colliders.len()],
+            fat: vec![Aabb::default(); colliders.len()],
+            sap_pairs: Vec::new(),
             ccd_start: Vec::with_capacity(ccd.len()),
             colliders,
             finite,
@@ -109,7 +115,7 @@ impl Collision {
             ccd,
             bouncy,
             frictional,
-            margin: settings.solver.margin,
+            margin: settings.solver.slop,
             jointed: jointed.to_vec(),
         }))
     }
@@ -117,22 +123,45 @@ impl Collision {
     /// Boxes of every finite collider (swept over the step for moving bodies) and
     /// the candidate pairs.
     pub fn broad_phase(&mut self, b: &Bodies, dt: f64) {
+        let mut moved_out = self.sap_pairs.is_empty() && self.fat.iter().all(|f| *f == Aabb::default());
         for &k in &self.finite {
             let c = &self.colliders[k as usize];
             let i = c.body as usize;
-            let mut a = Aabb::from_parry(&c.shape.compute_aabb(&c.pose(b))).loosened(self.margin);
+            let w = Vec3::from(b.angular_velocity[i]).norm() * dt;
+            let d: [f64; 3] = (Vec3::from(b.linear_velocity[i]) * dt).into();
+            // A body turning by more than a milliradian a step gets the box of the
+            // ball of its reach: six additions, and it only changes as the body moves.
+            let turning = w > TURNING;
+            let mut a = if turning {
+                ball_box(b, c, self.margin)
+            } else {
+                Aabb::from_parry(&c.shape.compute_aabb(&c.pose(b))).loosened(self.margin)
+            };
             if b.moving(i) {
-                let v = Vec3::from(b.linear_velocity[i]) * dt;
-                let w = Vec3::from(b.angular_velocity[i]).norm() * dt;
-                a = a.swept(v.into()).loosened(w * c.reach);
+                a = a.swept(d).loosened(if turning { 0.0 } else { w * c.reach });
             }
             self.boxes[k as usize] = a;
+            if !a.inside(&self.fat[k as usize]) {
+                self.fat[k as usize] = a.loosened(self.margin.max(0.02 * c.reach));
+                moved_out = true;
+            }
+        }
+        // The pairs of fat boxes change only when a body leaves its fat box: a scene
+        // that moves in place (bodies spinning, settling, at rest) sorts nothing.
+        if moved_out {
+            self.sap_pairs.clear();
+            let (cols, jointed) = (&self.colliders, &self.jointed);
+            let keep = |i: u32, j: u32| may_touch(cols, i, j, jointed);
+            self.sap.pairs(&self.fat, &self.finite, keep, &mut self.sap_pairs);
         }
         self.candidates.clear();
         let (cols, boxes) = (&self.colliders, &self.boxes);
         let jointed = &self.jointed;
-        let keep = |i: u32, j: u32| pair_allowed(cols, b, i, j, jointed);
-        self.sap.pairs(boxes, &self.finite, keep, &mut self.candidates);
+        for &(i, j) in &self.sap_pairs {
+            if boxes[i as usize].overlaps(&boxes[j as usize]) && pair_allowed(cols, b, i, j, jointed) {
+                self.candidates.push((i, j));
+            }
+        }
         for &h in &self.infinite {
             let c = &cols[h as usize];
             let pose = c.pose(b);
@@ -191,16 +220,32 @@ impl Collision {
     }
 }
 
+/// Rotation per step (rad) above which a body's box is that of its reach.
+const TURNING: f64 = 1e-3;
+
+/// The box of the ball around a body's centre that holds its collider, grown by
+/// `margin`.
+fn ball_box(b: &Bodies, c: &Collider, margin: f64) -> Aabb {
+    let x = b.position[c.body as usize];
+    let r = c.reach + margin;
+    Aabb { min: [x[0] - r, x[1] - r, x[2] - r], max: [x[0] + r, x[1] + r, x[2] + r] }
+}
+
+/// Whatever the bodies do, colliders `i` and `j` may touch: different bodies,
+/// filters agree, not jointed, not both infinite.
+fn may_touch(cols: &[Collider], i: u32, j: u32, jointed: &[(u32, u32)]) -> bool {
+    let (ci, cj) = (&cols[i as usize], &cols[j as usize]);
+    ci.body != cj.body
+        && ci.filter.allows(&cj.filter)
+        && !(ci.infinite && cj.infinite)
+        && !super::joints::jointed(jointed, ci.body, cj.body)
+}
+
 /// Colliders `i` and `j` may touch now: different bodies not tied by a joint,
 /// filters agree, and one of the two bodies moves.
 fn pair_allowed(cols: &[Collider], b: &Bodies, i: u32, j: u32, jointed: &[(u32, u32)]) -> bool {
-    let (ci, cj) = (&cols[i as usize], &cols[j as usize]);
-    let (bi, bj) = (ci.body as usize, cj.body as usize);
-    bi != bj
-        && ci.filter.allows(&cj.filter)
-        && (b.moving(bi) || b.moving(bj))
-        && !(ci.infinite && cj.infinite)
-        && !super::joints::jointed(jointed, ci.body, cj.body)
+    let (bi, bj) = (cols[i as usize].body as usize, cols[j as usize].body as usize);
+    (b.moving(bi) || b.moving(bj)) && may_touch(cols, i, j, jointed)
 }
 
 /// Rejects at build time a pair of shapes that can touch but that parry cannot

@@ -125,7 +125,7 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Option<Xpbd>
     }
     let colliders = scene.bodies().iter().enumerate().filter_map(|(i, d)| collider_of(i, d)).collect();
     let g = crate::math::Vec3::from(scene.gravity);
-    Xpbd::new(&scene.xpbd, g, settings.iterations, colliders, settings.solver.margin).map(Some)
+    Xpbd::new(&scene.xpbd, g, settings.iterations, colliders, settings.solver.slop).map(Some)
 }
 
 impl World {

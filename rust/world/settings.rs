@@ -46,7 +46,7 @@ impl Settings {
         non_negative("contact_damping_ratio", s.contact_damping_ratio)?;
         positive("max_push_velocity", s.max_push_velocity)?;
         non_negative("restitution_threshold", s.restitution_threshold)?;
-        non_negative("margin", s.margin)?;
+        non_negative("slop", s.slop)?;
         non_negative("sleep linear threshold", self.sleep.linear)?;
         non_negative("sleep angular threshold", self.sleep.angular)?;
         non_negative("sleep time", self.sleep.time)?;

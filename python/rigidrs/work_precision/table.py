@@ -41,11 +41,13 @@ def cost_to_reach(runs: Sequence[Run], target: float) -> tuple[float | None, str
 
 
 def fmt_cost(seconds: float) -> str:
-    """A cost in seconds per simulated second, with a readable unit."""
-    for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6)):
-        if seconds >= scale:
-            return f"{seconds / scale:.3g} {unit}/s"
-    return f"{seconds / 1e-9:.3g} ns/s"
+    """A cost in seconds per simulated second, 3 digits in the largest unit that keeps
+    the number below 1000 after rounding."""
+    for unit, scale in (("ns", 1e-9), ("µs", 1e-6), ("ms", 1e-3)):
+        text = f"{seconds / scale:.3g}"
+        if float(text) < 1000:
+            return f"{text} {unit}/s"
+    return f"{seconds:.3g} s/s"
 
 
 def fmt_err(e: float) -> str:

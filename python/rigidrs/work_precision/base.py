@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
@@ -79,7 +79,6 @@ class Problem(ABC):
     ceiling: ClassVar[float] = 0.3
     # Extra metrics measured besides the error: key -> description.
     extras: ClassVar[dict[str, str]] = {}
-    build_options: ClassVar[dict[str, Any]] = {}
 
     @abstractmethod
     def methods(self, cfg: Config) -> list[Method]:
@@ -103,8 +102,7 @@ class Problem(ABC):
 
     def build(self, method: Method, point: Point, copies: int = 1) -> World:
         world = self.scene(copies).build(
-            dt=point.dt, integrator=method.integrator, substeps=point.substeps, iterations=method.iterations,
-            **self.build_options
+            dt=point.dt, integrator=method.integrator, substeps=point.substeps, iterations=method.iterations
         )
         world.profiling = False
         return world

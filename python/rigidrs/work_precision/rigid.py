@@ -26,9 +26,10 @@ TOP_STEPS = {
 
 
 # Steps per simulated second (coarsest, finest) for the Dzhanibekov flip: the error
-# of a near-separatrix flip grows fast with h (rk4 is pre-asymptotic below 40 steps/s, suzuki4 below 10),
-# and the round-off of E and |L| (~1e-13 after 10⁴ steps) moves the flip times by
-# ~1e-9 of themselves (the half-period goes as log(1/(M² − 2EI2))).
+# of a near-separatrix flip grows fast with h (rk4 is pre-asymptotic below 40
+# steps/s, suzuki4 below 10), and the round-off of E and |L| (~1e-13 after 10⁴
+# steps) moves the flip times by 1e-10 to 1e-9 of themselves (the half-period goes
+# as log(1/(M² − 2EI2)), and M² − 2EI2 is 2e-5 of M² here).
 FLIP_RATES = {
     "euler": (60, 6_000),
     "symplectic_euler": (60, 6_000),

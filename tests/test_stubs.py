@@ -34,7 +34,7 @@ def test_stubtest_accepts_the_compiled_module(mypy_available: None, tmp_path: Pa
 
 
 def test_mypy_accepts_the_package_sources(mypy_available: None, tmp_path: Path) -> None:
-    files = sorted(str(p) for p in PACKAGE.glob("*.py*") if p.suffix in {".py", ".pyi"})
+    files = sorted(str(p) for p in PACKAGE.rglob("*.py*") if p.suffix in {".py", ".pyi"})
     assert any(f.endswith("_core.pyi") for f in files)
     result = run("mypy", "--no-incremental", "--config-file", os.devnull, *files, cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr

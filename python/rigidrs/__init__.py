@@ -4,7 +4,7 @@ Describe what to simulate in a :class:`Scene`, compile it with
 :meth:`Scene.build` into a :class:`World`, step it, and read its state through
 NumPy views (``world.bodies.position``, ``world.particles.position`` and
 friends). SI units, z up, quaternions
-in (x, y, z, w) order.
+in (x, y, z, w) order. :func:`accuracy` runs the work-precision report.
 """
 from ._core import (
     INTEGRATORS,
@@ -30,6 +30,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from .work_precision import accuracy
 
 __all__ = [
     "INTEGRATORS",
@@ -52,6 +53,7 @@ __all__ = [
     "TriMesh",
     "World",
     "__version__",
+    "accuracy",
     "mass_properties",
     "polar_decomposition",
 ]

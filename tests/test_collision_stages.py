@@ -234,6 +234,22 @@ def test_writing_a_velocity_or_force_wakes_the_island(poke):
     assert np.any(world.bodies.position[top] != before)  # and it moved
 
 
+def test_sleeping_body_moved_through_the_view_is_collided_where_it_now_is():
+    """Regression: sleeping bodies keep their broad-phase boxes until their pose
+    changes. A sleeping box teleported under a falling ball must stop the ball there
+    (a stale box would let the ball fall through it to the ground)."""
+    world, left, right, ball = asleep_world()
+    target = right[0]
+    world.bodies.position[target] = (-3.0, 4.0, 0.5)  # still asleep, on the ground
+    world.bodies.position[ball] = (-3.0, 4.0, 2.0)
+    world.bodies.linear_velocity[ball] = (0.0, 0.0, -1.0)
+    world.step(120)
+    # The ball (r 0.2) rests on the box top (z 1.0), centre at 1.2, within the
+    # 5 mm contact slop plus the soft contact's sag (< 1 cm here).
+    assert world.bodies.position[ball][2] == pytest.approx(1.2, abs=0.01)
+    assert world.bodies.position[target][2] == pytest.approx(0.5, abs=0.01)
+
+
 # ---------------------------------------------------------------------------
 # Kinematic bodies
 # ---------------------------------------------------------------------------

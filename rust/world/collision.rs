@@ -24,6 +24,9 @@ pub struct Collision {
     /// Boxes grown beyond `boxes`, kept until a body leaves its own, and the pairs
     /// of them that overlap.
     fat: Vec<Aabb>,
+    /// Pose (position, quaternion) each box of a body at rest was computed at: a
+    /// sleeping or fixed body keeps its box until something moves it.
+    boxed_at: Vec<[f64; 7]>,
     sap_pairs: Vec<(u32, u32)>,
     sap: SweepAndPrune,
     candidates: Vec<(u32, u32)>,
@@ -102,6 +105,7 @@ impl Collision {
         Ok(Some(Self {
             boxes: vec![Aabb::default(); colliders.len()],
             fat: vec![Aabb::default(); colliders.len()],
+            boxed_at: vec![[f64::NAN; 7]; colliders.len()],
             sap_pairs: Vec::new(),
             ccd_start: Vec::with_capacity(ccd.len()),
             colliders,
@@ -127,6 +131,17 @@ impl Collision {
         for &k in &self.finite {
             let c = &self.colliders[k as usize];
             let i = c.body as usize;
+            let moving = b.moving(i);
+            if !moving {
+                let (x, q) = (b.position[i], b.orientation[i]);
+                let pose = [x[0], x[1], x[2], q[0], q[1], q[2], q[3]];
+                if self.boxed_at[k as usize] == pose {
+                    continue;
+                }
+                self.boxed_at[k as usize] = pose;
+            } else {
+                self.boxed_at[k as usize][0] = f64::NAN;
+            }
             let w = Vec3::from(b.angular_velocity[i]).norm() * dt;
             let d: [f64; 3] = (Vec3::from(b.linear_velocity[i]) * dt).into();
             // A body turning by more than a milliradian a step gets the box of the
@@ -137,7 +152,7 @@ impl Collision {
             } else {
                 Aabb::from_parry(&c.shape.compute_aabb(&c.pose(b))).loosened(self.margin)
             };
-            if b.moving(i) {
+            if moving {
                 a = a.swept(d).loosened(if turning { 0.0 } else { w * c.reach });
             }
             self.boxes[k as usize] = a;

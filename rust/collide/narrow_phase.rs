@@ -2,8 +2,6 @@
 //! parry matches new contact points to old ones by feature id, carrying the
 //! accumulated impulses used to warm-start the solver.
 
-use std::collections::HashMap;
-
 use parry3d_f64::query::{ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
 
 use super::collider::Collider;
@@ -26,21 +24,23 @@ pub type Manifold = ContactManifold<(), ContactData>;
 
 #[derive(Default)]
 pub struct PairState {
+    /// The collider pair, smaller index first.
+    pub key: (u32, u32),
     pub manifolds: Vec<Manifold>,
     /// How far ahead contacts were predicted for this pair this step (m); parry
     /// may report points of a manifold beyond it, which are not contacts yet.
     pub prediction: f64,
     workspace: Option<ContactManifoldsWorkspace>,
-    stamp: u64,
 }
 
-/// The persistent pairs, and the ones with contact points this step (in a
-/// deterministic order: that of the broad phase's sorted candidates).
+/// The persistent pairs, sorted by key (the broad phase's candidates come sorted,
+/// so a step's pairs are matched to the last step's by a merge, without hashing),
+/// and the ones with contact points this step, as indices into `pairs`.
 #[derive(Default)]
 pub struct NarrowPhase {
-    pub pairs: HashMap<(u32, u32), PairState>,
-    pub touching: Vec<(u32, u32)>,
-    stamp: u64,
+    pub pairs: Vec<PairState>,
+    pub touching: Vec<u32>,
+    spare: Vec<PairState>,
 }
 
 /// How far ahead (m) contacts are predicted for a pair.
@@ -63,38 +63,55 @@ impl NarrowPhase {
         pred: &Prediction,
         dormant: impl Fn(u32, u32) -> bool,
     ) {
-        self.stamp += 1;
-        let stamp = self.stamp;
         self.touching.clear();
+        let mut last = std::mem::take(&mut self.pairs);
+        let mut old = last.drain(..).peekable();
+        let mut pairs = std::mem::take(&mut self.spare);
         for &(i, j) in candidates {
-            let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
-            let state = self.pairs.entry((i, j)).or_default();
-            state.stamp = stamp;
-            let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
-            let pos12 = pose1.inv_mul(&pose2);
-            // Contacts are predicted as far as the bodies can travel in a step, but a
-            // body without CCD looks no further than its own size ahead: a bullet
-            // without CCD may tunnel, with it never does.
-            let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
-            let prediction = pred.margin + (pred.dt * approach_bound(c1, c2, bodies)).min(reach);
-            state.prediction = prediction;
-            if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
-                // Unsupported pairs are rejected when the world is built; none reach here.
-                let _ = DefaultQueryDispatcher.contact_manifolds(
-                    &pos12,
-                    c1.shape.as_ref(),
-                    c2.shape.as_ref(),
-                    prediction,
-                    &mut state.manifolds,
-                    &mut state.workspace,
-                );
+            let mut state = None;
+            while let Some(o) = old.next_if(|o| o.key <= (i, j)) {
+                if o.key == (i, j) {
+                    state = Some(o);
+                } else if dormant(o.key.0, o.key.1) {
+                    pairs.push(o);
+                }
             }
-            if state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction)) {
-                self.touching.push((i, j));
+            let mut state = state.unwrap_or_else(|| PairState { key: (i, j), ..Default::default() });
+            if update_pair(&mut state, colliders, bodies, pred) {
+                self.touching.push(pairs.len() as u32);
             }
+            pairs.push(state);
         }
-        self.pairs.retain(|&(i, j), s| s.stamp == stamp || dormant(i, j));
+        pairs.extend(old.filter(|o| dormant(o.key.0, o.key.1)));
+        self.pairs = pairs;
+        self.spare = last;
     }
+}
+
+/// The manifolds of one candidate pair; returns whether some point is within its
+/// prediction.
+fn update_pair(state: &mut PairState, colliders: &[Collider], bodies: &Bodies, pred: &Prediction) -> bool {
+    let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
+    let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
+    let pos12 = pose1.inv_mul(&pose2);
+    // Contacts are predicted as far as the bodies can travel in a step, but a
+    // body without CCD looks no further than its own size ahead: a bullet
+    // without CCD may tunnel, with it never does.
+    let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
+    let prediction = pred.margin + (pred.dt * approach_bound(c1, c2, bodies)).min(reach);
+    state.prediction = prediction;
+    if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
+        // Unsupported pairs are rejected when the world is built; none reach here.
+        let _ = DefaultQueryDispatcher.contact_manifolds(
+            &pos12,
+            c1.shape.as_ref(),
+            c2.shape.as_ref(),
+            prediction,
+            &mut state.manifolds,
+            &mut state.workspace,
+        );
+    }
+    state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction))
 }
 
 /// The half-space–hull pair, either way round, by [`super::plane_hull`].

@@ -11,7 +11,7 @@
 
 use super::friction::Patch;
 use super::soft::Softness;
-use super::solver_body::{Pair, SolverBody};
+use super::solver_body::{Gap, Pair, SolverBody};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
 use crate::collide::material::{combine, ContactMaterial};
@@ -62,6 +62,8 @@ pub struct PairContext {
     pub x2: Vec3,
     pub material: ContactMaterial,
     pub pair: (u32, u32),
+    /// Index of the pair in the narrow phase's `pairs`.
+    pub slot: u32,
 }
 
 /// One contact point.
@@ -114,10 +116,12 @@ pub struct Constraint {
     /// Range of the points in `ContactSolver::points`.
     pub start: u32,
     pub len: u32,
-    /// Bodies, collider pair and manifold index it came from.
+    /// Bodies, collider pair, its index in the narrow phase's `pairs`, and the
+    /// manifold index it came from.
     pub b1: u32,
     pub b2: u32,
     pub pair: (u32, u32),
+    pub slot: u32,
     pub manifold: u32,
     /// Whether its points started this step without impulses to warm start from.
     pub fresh: bool,
@@ -207,9 +211,9 @@ impl ContactSolver {
         let hertz = self.settings.contact_hertz.min(0.25 / h);
         self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
         self.inv_h = 1.0 / h;
-        for &(ci, cj) in &narrow.touching {
-            let Some(state) = narrow.pairs.get(&(ci, cj)) else { continue };
-            let ctx = self.pair_context(colliders, b, (ci, cj));
+        for &slot in &narrow.touching {
+            let state = &narrow.pairs[slot as usize];
+            let ctx = self.pair_context(colliders, b, state.key, slot);
             for (m, manifold) in state.manifolds.iter().enumerate() {
                 self.push_manifold(manifold, &ctx, m as u32, true, state.prediction);
             }
@@ -220,7 +224,7 @@ impl ContactSolver {
     }
 
     /// What the constraints of a collider pair share, at the bodies' current poses.
-    pub(crate) fn pair_context(&mut self, colliders: &[Collider], b: &Bodies, pair: (u32, u32)) -> PairContext {
+    pub(crate) fn pair_context(&mut self, colliders: &[Collider], b: &Bodies, pair: (u32, u32), slot: u32) -> PairContext {
         let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
         let (b1, b2) = (c1.body as usize, c2.body as usize);
         let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
@@ -238,6 +242,7 @@ impl ContactSolver {
             x2: Vec3::from(b.position[b2]),
             material: combine(&c1.material, &c2.material),
             pair,
+            slot,
         }
     }
 
@@ -286,6 +291,7 @@ impl ContactSolver {
             b1: ctx.b1,
             b2: ctx.b2,
             pair: ctx.pair,
+            slot: ctx.slot,
             manifold: index,
             fresh: !warm || manifold.points.iter().all(|tp| tp.data.normal_impulse == 0.0),
             frozen: 0,
@@ -351,7 +357,7 @@ impl ContactSolver {
     }
 
     pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
-        Pair::load(&self.bodies, c).separation(c, p)
+        Gap::new(&self.bodies, c).separation(p)
     }
 
     /// Re-applies the impulses of the previous substep (or step) and adds the
@@ -393,7 +399,7 @@ impl ContactSolver {
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
-            let manifold = narrow.pairs.get_mut(&c.pair).and_then(|s| s.manifolds.get_mut(c.manifold as usize));
+            let manifold = narrow.pairs.get_mut(c.slot as usize).and_then(|s| s.manifolds.get_mut(c.manifold as usize));
             let mut manifold = manifold;
             for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 p.total_normal += p.normal_impulse;

@@ -76,7 +76,7 @@ impl ContactSolver {
         let c = self.constraints[ci];
         self.advance(b, &c, t_c, 1.0);
         let (first_c, first_p) = (self.constraints.len(), self.points.len());
-        self.fresh_contacts(b, colliders, c.pair);
+        self.fresh_contacts(b, colliders, c.pair, c.slot);
         let fresh: Vec<usize> = if self.constraints.len() > first_c {
             (first_c..self.constraints.len()).collect()
         } else {
@@ -97,7 +97,7 @@ impl ContactSolver {
     }
 
     /// Appends constraints for the contact of a collider pair at the current poses.
-    fn fresh_contacts(&mut self, b: &Bodies, colliders: &[Collider], pair: (u32, u32)) {
+    fn fresh_contacts(&mut self, b: &Bodies, colliders: &[Collider], pair: (u32, u32), slot: u32) {
         let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
         let pos12 = c1.pose(b).inv_mul(&c2.pose(b));
         let mut manifolds: Vec<Manifold> = Vec::new();
@@ -107,7 +107,7 @@ impl ContactSolver {
         if found.is_err() {
             return;
         }
-        let ctx = self.pair_context(colliders, b, pair);
+        let ctx = self.pair_context(colliders, b, pair, slot);
         for (m, manifold) in manifolds.iter().enumerate() {
             self.push_manifold(manifold, &ctx, m as u32, false, reach);
         }

@@ -14,7 +14,7 @@ use super::contact::ContactSolver;
 
 /// Sweeps over the points of a manifold that has no warm start.
 const FRESH_SWEEPS: u32 = 4;
-use super::solver_body::Pair;
+use super::solver_body::{Gap, Pair};
 
 impl ContactSolver {
     pub fn solve_normal(&mut self, relax: bool) {
@@ -23,13 +23,14 @@ impl ContactSolver {
         let inv_h = self.inv_h;
         for c in &self.constraints {
             let mut pair = Pair::load(&self.bodies, c);
+            let gap = Gap::new(&self.bodies, c);
             // A manifold with nothing to warm start from is swept a few times, so its
             // points share the load from the start: one sweep gives the first point
             // all of it, and the torque of that rocks a box set down flat.
             let sweeps = if c.fresh && c.len > 1 && !relax { FRESH_SWEEPS } else { 1 };
             for p in (0..sweeps).flat_map(|_| c.start..c.start + c.len) {
                 let p = &mut self.points[p as usize];
-                let s = pair.separation(c, p);
+                let s = gap.separation(p);
                 if relax && s > 0.0 {
                     // After the drift a gap is the next substep's business: closing it
                     // here would brake a body that has not arrived yet.

@@ -12,7 +12,7 @@
 //! not lose.
 
 use super::contact::{Constraint, ContactSolver};
-use super::solver_body::Pair;
+use super::solver_body::{Gap, Pair};
 use crate::math::Vec3;
 
 /// Normal within 45° of the vertical: a contact that supports.
@@ -111,9 +111,10 @@ impl ContactSolver {
         for k in 0..self.shock.len() {
             let c = self.constraints[self.shock[k].1 as usize];
             let mut pair = Pair::load(&self.bodies, &c);
+            let gap = Gap::new(&self.bodies, &c);
             for _ in 0..PASSES {
                 for p in &self.points[c.start as usize..(c.start + c.len) as usize] {
-                    let s = pair.separation(&c, p);
+                    let s = gap.separation(p);
                     // Only stops sinking; pushing out stays the soft solve's business.
                     let target = if s <= 0.0 {
                         0.0

@@ -57,12 +57,6 @@ pub struct Pair {
     pub w2: Vec3,
     m1: f64,
     m2: f64,
-    dp1: Vec3,
-    dp2: Vec3,
-    dq1: Quat,
-    dq2: Quat,
-    round1: bool,
-    round2: bool,
 }
 
 impl Pair {
@@ -76,12 +70,6 @@ impl Pair {
             w2: b.w,
             m1: a.inv_m,
             m2: b.inv_m,
-            dp1: a.dp,
-            dp2: b.dp,
-            dq1: a.dq,
-            dq2: b.dq,
-            round1: c.s1 == 0 || a.round,
-            round2: c.s2 == 0 || b.round,
         }
     }
 
@@ -94,17 +82,6 @@ impl Pair {
         let b = &mut bodies[c.s2 as usize];
         b.v = self.v2;
         b.w = self.w2;
-    }
-
-    /// Current separation: the step-start separation plus how far the anchors
-    /// have moved apart along the normal since (m). Anchors turn with their body,
-    /// as a box's corner does, except on a ball, whose contact point stays under
-    /// its centre however it spins.
-    #[inline(always)]
-    pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
-        let d2 = self.dp2 + if self.round2 { p.anchor2 } else { quat::rotate(&self.dq2, &p.anchor2) };
-        let d1 = self.dp1 + if self.round1 { p.anchor1 } else { quat::rotate(&self.dq1, &p.anchor1) };
-        p.base_separation + c.normal.dot(&(d2 - d1))
     }
 
     #[inline(always)]
@@ -166,10 +143,48 @@ impl Pair {
     }
 }
 
+/// How far the points of one constraint have moved apart along its normal since
+/// the step start, from the two bodies' pose changes: computed once per
+/// constraint, it gives each point's separation with two dot products.
+pub struct Gap {
+    /// The normal in each body's step-start frame turned back by its rotation
+    /// since, `ΔRᵀ n`: `n·(ΔR a) = (ΔRᵀ n)·a` for an anchor `a`.
+    n1: Vec3,
+    n2: Vec3,
+    /// `n·(Δp2 − Δp1)` (m).
+    shift: f64,
+}
+
+impl Gap {
+    /// Anchors turn with their body, as a box's corner does, except on a ball,
+    /// whose contact point stays under its centre however it spins.
+    #[inline(always)]
+    pub fn new(bodies: &[SolverBody], c: &Constraint) -> Self {
+        let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+        let back = |s: &SolverBody, fixed: bool| {
+            if fixed || s.round {
+                c.normal
+            } else {
+                quat::rotate(&s.dq.conjugate(), &c.normal)
+            }
+        };
+        Self { n1: back(a, c.s1 == 0), n2: back(b, c.s2 == 0), shift: c.normal.dot(&(b.dp - a.dp)) }
+    }
+
+    /// Current separation of a point (m): its step-start separation plus how far
+    /// its anchors have moved apart along the normal since.
+    #[inline(always)]
+    pub fn separation(&self, p: &Point) -> f64 {
+        p.base_separation + self.shift + self.n2.dot(&p.anchor2) - self.n1.dot(&p.anchor1)
+    }
+}
+
 /// Displacement (m) and quaternion change (rad/2) since the last refresh below
-/// which a body's contact arms are not recomputed: 10 nm, far below what a
-/// contact resolves, far above the creep of a body at rest.
-const MOVE_EPS: f64 = 1e-8;
+/// which a body's contact arms are not recomputed: 1 µm, far below what a contact
+/// resolves (the slop is 5 mm) and above what a body resting in a stack or a
+/// pyramid sags or creeps per substep, so at rest nothing is recomputed. A body
+/// moving faster than 1 µm per substep is refreshed every substep.
+const MOVE_EPS: f64 = 1e-6;
 
 impl ContactSolver {
     /// Copies velocities and pose changes of the solver bodies from the world,

@@ -206,7 +206,8 @@ impl Collision {
             !b.moving(cols[i as usize].body as usize) && !b.moving(cols[j as usize].body as usize)
         });
         let mut woke = false;
-        for &(i, j) in &self.narrow.touching {
+        for &k in &self.narrow.touching {
+            let (i, j) = self.narrow.pairs[k as usize].key;
             let (bi, bj) = (cols[i as usize].body as usize, cols[j as usize].body as usize);
             if b.moving(bi) {
                 woke |= self.islands.wake(b, bj);

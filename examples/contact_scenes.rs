@@ -1,0 +1,89 @@
+//! The pyramid and ball-pit scenes of `benches/peers/` built in Rust, stepped and
+//! timed without Python in the way: a target for `perf record` when working on the
+//! contact pipeline. `cargo run --release --example contact_scenes [pyramid|ball_pit] [steps]`
+use rigidrs::body::Shape;
+use rigidrs::world::{BodySpec, Scene, Settings, World};
+use std::time::Instant;
+
+fn material(friction: f64) -> rigidrs::collide::Material {
+    rigidrs::collide::Material { friction, static_friction: friction, restitution: 0.0 }
+}
+
+/// As the peer scripts: dt 1/60 s, sleeping off so every engine does the same work.
+fn settings() -> Settings {
+    let mut s = Settings::new(1.0 / 60.0);
+    s.sleep.enabled = false;
+    s
+}
+
+fn pyramid(base: usize) -> World {
+    let mut sc = Scene::new([0.0, 0.0, -9.81]).unwrap();
+    let ground = Shape::plane([0.0, 0.0, 1.0], 0.0).unwrap();
+    sc.add_body(BodySpec { shape: Some(ground), fixed: true, material: material(0.5), ..Default::default() }).unwrap();
+    let cube = Shape::cuboid([0.5; 3]).unwrap();
+    for i in 0..base {
+        let k = base - i;
+        for j in 0..k {
+            let x = (j as f64 - (k as f64 - 1.0) / 2.0) * 1.02;
+            sc.add_body(BodySpec {
+                shape: Some(cube.clone()),
+                density: Some(1000.0),
+                position: [x, 0.0, 0.5 + i as f64],
+                material: material(0.5),
+                ..Default::default()
+            })
+            .unwrap();
+        }
+    }
+    sc.build(&settings()).unwrap()
+}
+
+fn ball_pit(n: usize) -> World {
+    let mut sc = Scene::new([0.0, 0.0, -9.81]).unwrap();
+    let (half, wall_h, t) = (1.25, 3.0, 0.1);
+    let (o, outer) = (half + t, half + 2.0 * t);
+    let walls = [
+        ([0.0, 0.0, -t], [outer, outer, t]),
+        ([o, 0.0, wall_h / 2.0], [t, outer, wall_h / 2.0]),
+        ([-o, 0.0, wall_h / 2.0], [t, outer, wall_h / 2.0]),
+        ([0.0, o, wall_h / 2.0], [half, t, wall_h / 2.0]),
+        ([0.0, -o, wall_h / 2.0], [half, t, wall_h / 2.0]),
+    ];
+    for (c, h) in walls {
+        let shape = Shape::cuboid(h).unwrap();
+        sc.add_body(BodySpec { shape: Some(shape), fixed: true, position: c, material: material(0.5), ..Default::default() })
+            .unwrap();
+    }
+    let ball = Shape::sphere(0.1).unwrap();
+    for i in 0..n {
+        // A deterministic jitter in place of the Python script's random one.
+        let jx = 0.02 * ((i as f64 * 0.754877).fract() * 2.0 - 1.0);
+        let jy = 0.02 * ((i as f64 * 0.569840).fract() * 2.0 - 1.0);
+        let (gx, gy, gz) = ((i % 10) as f64, ((i / 10) % 10) as f64, (i / 100) as f64);
+        sc.add_body(BodySpec {
+            shape: Some(ball.clone()),
+            density: Some(1000.0),
+            position: [(gx - 4.5) * 0.25 + jx, (gy - 4.5) * 0.25 + jy, 0.3 + gz * 0.25],
+            material: material(0.5),
+            ..Default::default()
+        })
+        .unwrap();
+    }
+    sc.build(&settings()).unwrap()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let scene = args.get(1).map(String::as_str).unwrap_or("pyramid");
+    let steps: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(600);
+    let mut w = match scene {
+        "ball_pit" => ball_pit(1000),
+        _ => pyramid(20),
+    };
+    let t = Instant::now();
+    for _ in 0..steps {
+        w.step(1).unwrap();
+    }
+    let s = t.elapsed().as_secs_f64();
+    println!("{scene}: {steps} steps in {s:.3} s, {:.0} steps/s", steps as f64 / s);
+}

@@ -67,10 +67,14 @@ impl Patch {
         let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
         let det = a * cc - b * b;
         f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
-        f.in1 = a1.inv_i * c.normal;
-        f.in2 = a2.inv_i * c.normal;
-        let kt = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
-        f.twist_mass = if kt > 0.0 { 1.0 / kt } else { 0.0 };
+        // A patch of one point (a ball, an edge touching a face) has no lever for
+        // a twist: no torsional friction, and nothing to compute for it.
+        if f.radius > 0.0 {
+            f.in1 = a1.inv_i * c.normal;
+            f.in2 = a2.inv_i * c.normal;
+            let kt = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
+            f.twist_mass = if kt > 0.0 { 1.0 / kt } else { 0.0 };
+        }
         f
     }
 
@@ -119,11 +123,13 @@ impl ContactSolver {
             let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
             f.impulse = l;
             pair.apply_patch(c, f, d);
-            let mu = if f.sliding { c.friction } else { c.static_friction };
-            let limit = mu * jn.max(f.settled) * f.radius;
-            let twist = (f.twist - f.twist_mass * pair.twist_velocity(c)).clamp(-limit, limit);
-            pair.apply_twist(f, twist - f.twist);
-            f.twist = twist;
+            if f.radius > 0.0 {
+                let mu = if f.sliding { c.friction } else { c.static_friction };
+                let limit = mu * jn.max(f.settled) * f.radius;
+                let twist = (f.twist - f.twist_mass * pair.twist_velocity(c)).clamp(-limit, limit);
+                pair.apply_twist(f, twist - f.twist);
+                f.twist = twist;
+            }
             pair.store(&mut self.bodies, c);
         }
     }

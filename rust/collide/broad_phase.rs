@@ -91,10 +91,16 @@ impl SweepAndPrune {
         mut keep: impl FnMut(u32, u32) -> bool,
         out: &mut Vec<(u32, u32)>,
     ) {
-        // The finite colliders of a world never change: set the order up once.
+        // The finite colliders of a world never change: set the order up once, and
+        // keep it sorted by insertion (it changes little between calls). The axis
+        // follows the scene's spread: a pile that has settled is wider than high.
+        let spread = spreads(boxes, finite);
+        let widest = (0..3).fold(0, |best, k| if spread[k] > spread[best] { k } else { best });
         if self.order.len() != finite.len() {
             self.order = finite.to_vec();
-            self.axis = widest_axis(boxes, finite);
+            self.axis = widest;
+        } else if spread[widest] > AXIS_SWITCH * spread[self.axis] {
+            self.axis = widest;
         }
         let axis = self.axis;
         insertion_sort(&mut self.order, |i| boxes[i as usize].min[axis]);
@@ -115,19 +121,18 @@ impl SweepAndPrune {
     }
 }
 
-/// The axis along which the box centres spread most: the fewest overlaps in it.
-fn widest_axis(boxes: &[Aabb], ids: &[u32]) -> usize {
+/// How much more the box centres must spread along another axis before the sweep
+/// moves to it (and sorts anew): no flip-flopping between two similar axes.
+const AXIS_SWITCH: f64 = 1.5;
+
+/// Variance of the box centres along each axis: the widest has the fewest overlaps.
+fn spreads(boxes: &[Aabb], ids: &[u32]) -> [f64; 3] {
     let n = ids.len().max(1) as f64;
-    let mut best = (0, -1.0);
-    for k in 0..3 {
-        let c: Vec<f64> = ids.iter().map(|&i| 0.5 * (boxes[i as usize].min[k] + boxes[i as usize].max[k])).collect();
-        let mean = c.iter().sum::<f64>() / n;
-        let var = c.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
-        if var > best.1 {
-            best = (k, var);
-        }
-    }
-    best.0
+    let centre = |i: u32, k: usize| 0.5 * (boxes[i as usize].min[k] + boxes[i as usize].max[k]);
+    std::array::from_fn(|k| {
+        let mean = ids.iter().map(|&i| centre(i, k)).sum::<f64>() / n;
+        ids.iter().map(|&i| (centre(i, k) - mean).powi(2)).sum::<f64>() / n
+    })
 }
 
 fn insertion_sort(v: &mut [u32], key: impl Fn(u32) -> f64) {
@@ -151,23 +156,43 @@ mod tests {
         Aabb { min: [c[0] - 0.5, c[1] - 0.5, c[2] - 0.5], max: [c[0] + 0.5, c[1] + 0.5, c[2] + 0.5] }
     }
 
-    #[test]
-    fn finds_exactly_the_overlapping_pairs() {
-        let boxes: Vec<Aabb> = (0..40).map(|i| unit_box([(i % 7) as f64 * 0.9, (i / 7) as f64 * 1.3, 0.0])).collect();
-        let ids: Vec<u32> = (0..40).collect();
-        let mut sap = SweepAndPrune::default();
-        let mut got = Vec::new();
-        sap.pairs(&boxes, &ids, |_, _| true, &mut got);
-        got.sort();
+    fn brute_force(boxes: &[Aabb]) -> Vec<(u32, u32)> {
+        let n = boxes.len() as u32;
         let mut want = Vec::new();
-        for i in 0..40u32 {
-            for j in i + 1..40 {
+        for i in 0..n {
+            for j in i + 1..n {
                 if boxes[i as usize].overlaps(&boxes[j as usize]) {
                     want.push((i, j));
                 }
             }
         }
-        assert_eq!(got, want);
+        want
+    }
+
+    fn sweep(sap: &mut SweepAndPrune, boxes: &[Aabb]) -> Vec<(u32, u32)> {
+        let ids: Vec<u32> = (0..boxes.len() as u32).collect();
+        let mut got = Vec::new();
+        sap.pairs(boxes, &ids, |_, _| true, &mut got);
+        got.sort();
+        got
+    }
+
+    #[test]
+    fn finds_exactly_the_overlapping_pairs() {
+        let boxes: Vec<Aabb> = (0..40).map(|i| unit_box([(i % 7) as f64 * 0.9, (i / 7) as f64 * 1.3, 0.0])).collect();
+        assert_eq!(sweep(&mut SweepAndPrune::default(), &boxes), brute_force(&boxes));
+    }
+
+    #[test]
+    fn follows_the_spread_to_another_axis_and_stays_exact() {
+        // A column (spread along z) that collapses into a heap spread along x.
+        let column: Vec<Aabb> = (0..30).map(|i| unit_box([0.1 * (i % 3) as f64, 0.0, 0.95 * i as f64])).collect();
+        let heap: Vec<Aabb> = (0..30).map(|i| unit_box([0.95 * i as f64, 0.1 * (i % 4) as f64, 0.2 * (i % 2) as f64])).collect();
+        let mut sap = SweepAndPrune::default();
+        assert_eq!(sweep(&mut sap, &column), brute_force(&column));
+        assert_eq!(sap.axis, 2);
+        assert_eq!(sweep(&mut sap, &heap), brute_force(&heap));
+        assert_eq!(sap.axis, 0);
     }
 
     #[test]

@@ -43,6 +43,9 @@ pub struct Collision {
     margin: f64,
     /// Body pairs tied by a joint, sorted: they never collide.
     jointed: Vec<(u32, u32)>,
+    /// No collider's body can move this step (all asleep or fixed): there is no
+    /// pair to look at, and the pairs kept for waking bodies stay as they are.
+    idle: bool,
 }
 
 pub(crate) fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
@@ -121,12 +124,19 @@ impl Collision {
             frictional,
             margin: settings.solver.slop,
             jointed: jointed.to_vec(),
+            idle: false,
         }))
     }
 
     /// Boxes of every finite collider (swept over the step for moving bodies) and
     /// the candidate pairs.
     pub fn broad_phase(&mut self, b: &Bodies, dt: f64) {
+        self.idle = !self.colliders.iter().any(|c| b.moving(c.body as usize));
+        if self.idle {
+            self.candidates.clear();
+            self.record_ccd_start(b);
+            return;
+        }
         let mut moved_out = self.sap_pairs.is_empty() && self.fat.iter().all(|f| *f == Aabb::default());
         for &k in &self.finite {
             let c = &self.colliders[k as usize];
@@ -190,9 +200,14 @@ impl Collision {
             }
         }
         self.candidates.sort_unstable();
+        self.record_ccd_start(b);
+    }
+
+    /// The poses CCD bodies sweep from.
+    fn record_ccd_start(&mut self, b: &Bodies) {
         self.ccd_start.clear();
         for &k in &self.ccd {
-            let i = cols[k as usize].body as usize;
+            let i = self.colliders[k as usize].body as usize;
             self.ccd_start.push(Start { position: Vec3::from(b.position[i]), orientation: b.q(i) });
         }
     }
@@ -200,6 +215,11 @@ impl Collision {
     /// Manifolds of the candidates, bodies woken by touch, and the constraints of
     /// this step. Returns whether a body woke.
     pub fn narrow_phase(&mut self, b: &mut Bodies, dt: f64, h: f64, gravity: &Vec3) -> bool {
+        if self.idle {
+            self.narrow.touching.clear();
+            self.solver.prepare(&self.narrow, &self.colliders, b, h, gravity);
+            return false;
+        }
         let pred = Prediction { margin: self.margin, dt };
         let cols = &self.colliders;
         self.narrow.update(cols, b, &self.candidates, &pred, |i, j| {

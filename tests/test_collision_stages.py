@@ -156,6 +156,39 @@ def test_impacts_stage_only_with_restitution(box_e, ground_e, expected):
 
 
 # ---------------------------------------------------------------------------
+# Bodies in free flight take the integrator's whole step
+# ---------------------------------------------------------------------------
+
+
+def spinning_box_in(scene):
+    return scene.add_body(rr.Box((0.1, 0.2, 0.3)), density=500.0, position=(5.0, 0.0, 10.0),
+                          angular_velocity=(0.3, 4.0, 0.2), linear_velocity=(1.0, 0.0, 3.0))
+
+
+@pytest.mark.parametrize("integrator", sorted(rr.INTEGRATORS))
+def test_a_body_in_free_flight_moves_as_in_a_world_without_colliders(integrator):
+    """Substeps are for contacts: a body that touches nothing this step takes the
+    integrator's step of dt once, so its trajectory is the one a world without any
+    collider gives (where there is one substep), to the bit, while other bodies
+    in the same world collide with 4 substeps."""
+    busy = rr.Scene(gravity=G)
+    box = spinning_box_in(busy)
+    busy.add_body(rr.Plane(), fixed=True)
+    busy.add_body(rr.Box((0.2, 0.2, 0.2)), density=500.0, position=(0.0, 0.0, 0.5), angular_velocity=(0.0, 1.0, 0.0))
+    busy.add_body(rr.Sphere(0.1), density=500.0, position=(1.0, 0.0, 0.1), restitution=0.5)
+    alone = rr.Scene(gravity=G)
+    ref = spinning_box_in(alone)
+    w_busy = busy.build(dt=1 / 120, integrator=integrator, sleep=False)
+    w_alone = alone.build(dt=1 / 120, integrator=integrator)
+    assert (w_busy.substeps, w_alone.substeps) == (4, 1)
+    w_busy.step(120)
+    w_alone.step(120)
+    assert len(w_busy.contacts()["depth"]) > 0  # the others did collide
+    for field in ("position", "orientation", "linear_velocity", "angular_velocity"):
+        np.testing.assert_array_equal(getattr(w_busy.bodies, field)[box], getattr(w_alone.bodies, field)[ref])
+
+
+# ---------------------------------------------------------------------------
 # Sleeping
 # ---------------------------------------------------------------------------
 

@@ -69,10 +69,37 @@ impl BodyLists {
                 (InertiaClass::Asymmetric, axes) => lists.asymmetric.push(aniso(i, &m, axes)),
             }
         }
-        lists.symmetric_index = lists.symmetric.iter().map(|a| a.index).collect();
-        lists.asymmetric_index = lists.asymmetric.iter().map(|a| a.index).collect();
-        lists.anisotropic_index = [lists.symmetric_index.as_slice(), &lists.asymmetric_index].concat();
+        lists.index();
         lists
+    }
+
+    /// Splits the lists by `touching` (indexed by body) into `free` (false) and
+    /// `touching` (true), reusing their allocations.
+    pub fn partition(&self, touching: &[bool], free_lists: &mut BodyLists, touching_lists: &mut BodyLists) {
+        fn split<T: Copy>(all: &[T], key: impl Fn(&T) -> u32, mask: &[bool], no: &mut Vec<T>, yes: &mut Vec<T>) {
+            no.clear();
+            yes.clear();
+            for x in all {
+                if mask[key(x) as usize] { yes.push(*x) } else { no.push(*x) }
+            }
+        }
+        let (f, t) = (free_lists, touching_lists);
+        split(&self.dynamic, |&i| i, touching, &mut f.dynamic, &mut t.dynamic);
+        split(&self.isotropic, |&i| i, touching, &mut f.isotropic, &mut t.isotropic);
+        split(&self.symmetric, |a| a.index, touching, &mut f.symmetric, &mut t.symmetric);
+        split(&self.asymmetric, |a| a.index, touching, &mut f.asymmetric, &mut t.asymmetric);
+        for l in [f, t] {
+            l.index();
+        }
+    }
+
+    fn index(&mut self) {
+        self.symmetric_index.clear();
+        self.symmetric_index.extend(self.symmetric.iter().map(|a| a.index));
+        self.asymmetric_index.clear();
+        self.asymmetric_index.extend(self.asymmetric.iter().map(|a| a.index));
+        self.anisotropic_index.clear();
+        self.anisotropic_index.extend(self.symmetric_index.iter().chain(&self.asymmetric_index));
     }
 
     /// Indices of the bodies of one class.

@@ -4,9 +4,12 @@
 //! One step is `pre` (collision detection), then `substeps` times `sub`, then
 //! `post` (sleep). Within a substep, bodies that touch something this step take a
 //! velocity-level step (full kick, contact solve, drift, relax: first order, as in
-//! every impulse-based engine), while bodies in free flight keep the integrator's
-//! own splitting and its order. The drift (translation and rotation) is the
-//! integrator's for both.
+//! every impulse-based engine). Bodies in free flight keep the integrator's own
+//! splitting and its order: in a world with contacts only, they take its whole
+//! step once, in `pre` after the narrow phase, exactly as in a world without
+//! colliders (substeps are for contacts); with joints or particles, which act on
+//! bodies inside the substeps, they take it per substep. The drift (translation
+//! and rotation) is the integrator's for all.
 //!
 //! Joints (XPBD, [`crate::xpbd::joints`]) are projected once per substep right
 //! after the integrator's last drift, before CCD and the contact relax pass: the
@@ -41,8 +44,8 @@ pub enum Group {
 pub enum StageKind {
     BroadPhase,
     NarrowPhase,
-    /// Velocity-level gyroscopic update of the non-isotropic bodies.
-    Gyroscopic(Gyroscopic),
+    /// Velocity-level gyroscopic update of the non-isotropic bodies of a group.
+    Gyroscopic(Gyroscopic, Group),
     /// Kick by gravity, applied forces and torques.
     Forces(Group),
     /// Restitution: pairwise impacts of approaching contacts, in time order.
@@ -59,10 +62,10 @@ pub enum StageKind {
     Normal { relax: bool },
     /// Shock propagation over heavily loaded support contacts after a pass.
     Shock { relax: bool },
-    /// `p += h v`.
-    Translate,
-    /// Rotation of the bodies of one inertia class by the integrator's method.
-    Rotate(InertiaClass),
+    /// `p += h v` for a group.
+    Translate(Group),
+    /// Rotation of the bodies of one inertia class and group by the integrator's method.
+    Rotate(InertiaClass, Group),
     /// The monolithic RK4 step of a group; `forces`: with its kick.
     Rk4 { group: Group, forces: bool },
     /// Kinematic bodies moved by their velocities.
@@ -81,25 +84,31 @@ pub enum StageKind {
     ParticleProject,
 }
 
-/// One stage: what it does, the fraction of the (sub)step it covers, and its
-/// accumulator in the world's profile.
+/// One stage: what it does, the fraction of the substep (or, `whole`, of the
+/// step) it covers, and its accumulator in the world's profile.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stage {
     pub kind: StageKind,
     pub frac: f64,
+    pub whole: bool,
     pub slot: usize,
 }
 
 impl Stage {
     fn new(kind: StageKind, frac: f64) -> Self {
-        Self { kind, frac, slot: 0 }
+        Self { kind, frac, whole: false, slot: 0 }
+    }
+
+    /// A stage that covers `frac` of the whole step, run once per step.
+    fn whole(kind: StageKind, frac: f64) -> Self {
+        Self { kind, frac, whole: true, slot: 0 }
     }
 
     pub fn name(&self) -> &'static str {
         match self.kind {
             StageKind::BroadPhase => "broad_phase",
             StageKind::NarrowPhase => "narrow_phase",
-            StageKind::Gyroscopic(_) => "gyroscopic",
+            StageKind::Gyroscopic(..) => "gyroscopic",
             StageKind::Forces(_) => "forces",
             StageKind::Impacts => "impacts",
             StageKind::WarmStart
@@ -112,10 +121,10 @@ impl Stage {
             | StageKind::Gather { relax: true }
             | StageKind::Scatter { relax: true }
             | StageKind::Shock { relax: true } => "contact_relax",
-            StageKind::Translate => "translate",
-            StageKind::Rotate(InertiaClass::Isotropic) => "rotate_isotropic",
-            StageKind::Rotate(InertiaClass::Symmetric) => "rotate_symmetric",
-            StageKind::Rotate(InertiaClass::Asymmetric) => "rotate_asymmetric",
+            StageKind::Translate(_) => "translate",
+            StageKind::Rotate(InertiaClass::Isotropic, _) => "rotate_isotropic",
+            StageKind::Rotate(InertiaClass::Symmetric, _) => "rotate_symmetric",
+            StageKind::Rotate(InertiaClass::Asymmetric, _) => "rotate_asymmetric",
             StageKind::Rk4 { .. } => "rk4",
             StageKind::Kinematic => "kinematic",
             StageKind::Ccd => "ccd",
@@ -181,19 +190,16 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         p.pre.push(Stage::new(StageKind::BroadPhase, 1.0));
         p.pre.push(Stage::new(StageKind::NarrowPhase, 1.0));
     }
+    if dynamic && inp.collisions && !inp.joints && !inp.particles {
+        return plan_free_and_touching(p, inp, lists);
+    }
     let free = if inp.collisions { Group::Free } else { Group::All };
-    let classes = [InertiaClass::Isotropic, InertiaClass::Symmetric, InertiaClass::Asymmetric];
-    let drift = |sub: &mut Vec<Stage>, frac: f64| {
-        sub.push(Stage::new(StageKind::Translate, frac));
-        for c in classes.into_iter().filter(|&c| lists.count(c) > 0) {
-            sub.push(Stage::new(StageKind::Rotate(c), frac));
-        }
-    };
+    let drift = |sub: &mut Vec<Stage>, frac: f64| drift(sub, lists, Group::All, Stage::new, frac);
     let split = inp.integrator.splitting();
     if dynamic {
         if let Some(g) = split.as_ref().and_then(|s| s.gyroscopic) {
             if !lists.anisotropic_index.is_empty() {
-                p.sub.push(Stage::new(StageKind::Gyroscopic(g), 1.0));
+                p.sub.push(Stage::new(StageKind::Gyroscopic(g, Group::All), 1.0));
             }
         }
         if inp.collisions && inp.forces {
@@ -255,6 +261,74 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         solve(&mut p.sub, inp, true);
     }
     finish(p, inp)
+}
+
+/// A world with collisions (and neither joints nor particles, which act on
+/// bodies within the substeps): bodies in free flight this step take the
+/// integrator's whole step once, exactly as in a world without colliders; only
+/// the bodies in contact are substepped. A body is free when no contact is
+/// predicted for it within the step, so nothing touches it before the next.
+fn plan_free_and_touching(mut p: Plan, inp: &PlanInputs, lists: &BodyLists) -> Plan {
+    let split = inp.integrator.splitting();
+    match &split {
+        None => p.pre.push(Stage::whole(StageKind::Rk4 { group: Group::Free, forces: inp.forces }, 1.0)),
+        Some(s) => {
+            if let Some(g) = s.gyroscopic.filter(|_| !lists.anisotropic_index.is_empty()) {
+                p.pre.push(Stage::whole(StageKind::Gyroscopic(g, Group::Free), 1.0));
+            }
+            for (j, &d) in s.drifts.iter().enumerate() {
+                if inp.forces && s.kicks[j] != 0.0 {
+                    p.pre.push(Stage::whole(StageKind::Forces(Group::Free), s.kicks[j]));
+                }
+                drift(&mut p.pre, lists, Group::Free, Stage::whole, d);
+            }
+            let last = s.kicks[s.drifts.len()];
+            if inp.forces && last != 0.0 {
+                p.pre.push(Stage::whole(StageKind::Forces(Group::Free), last));
+            }
+        }
+    }
+    // The bodies in contact: a velocity-level step per substep (full kick, contact
+    // solve, the integrator's drifts, relax).
+    if let Some(g) = split.as_ref().and_then(|s| s.gyroscopic).filter(|_| !lists.anisotropic_index.is_empty()) {
+        p.sub.push(Stage::new(StageKind::Gyroscopic(g, Group::Touching), 1.0));
+    }
+    if inp.forces {
+        p.sub.push(Stage::new(StageKind::Forces(Group::Touching), 1.0));
+    }
+    p.sub.push(Stage::new(StageKind::Gather { relax: false }, 1.0));
+    if inp.impacts {
+        p.sub.push(Stage::new(StageKind::Impacts, 1.0));
+    }
+    p.sub.push(Stage::new(StageKind::WarmStart, 1.0));
+    solve(&mut p.sub, inp, false);
+    if inp.kinematic {
+        p.sub.push(Stage::new(StageKind::Kinematic, 1.0));
+    }
+    match &split {
+        None => p.sub.push(Stage::new(StageKind::Rk4 { group: Group::Touching, forces: false }, 1.0)),
+        Some(s) => {
+            for &d in &s.drifts {
+                drift(&mut p.sub, lists, Group::Touching, Stage::new, d);
+            }
+        }
+    }
+    if inp.ccd {
+        p.sub.push(Stage::new(StageKind::Ccd, 1.0));
+    }
+    solve(&mut p.sub, inp, true);
+    finish(p, inp)
+}
+
+/// A drift of `frac` for a group: translation, then the rotation of each inertia
+/// class the world has.
+fn drift(stages: &mut Vec<Stage>, lists: &BodyLists, group: Group, make: fn(StageKind, f64) -> Stage, frac: f64) {
+    stages.push(make(StageKind::Translate(group), frac));
+    for c in [InertiaClass::Isotropic, InertiaClass::Symmetric, InertiaClass::Asymmetric] {
+        if lists.count(c) > 0 {
+            stages.push(make(StageKind::Rotate(c, group), frac));
+        }
+    }
 }
 
 /// The joint projection, if the scene has joints.

@@ -74,27 +74,26 @@ impl World {
     }
 
     fn run(&mut self, stage: Stage, h: f64, src: &KickSources) {
-        let hf = h * stage.frac;
         let dt = self.settings.dt;
+        let hf = if stage.whole { dt } else { h } * stage.frac;
+        let group = |g: Group| match g {
+            Group::All => &self.lists,
+            Group::Free => &self.split[0],
+            Group::Touching => &self.split[1],
+        };
         match stage.kind {
-            StageKind::Forces(g) => {
-                let list = std::mem::take(self.group_mut(g));
-                kick::kick(&mut self.bodies, &list, hf, src);
-                *self.group_mut(g) = list;
-            }
-            StageKind::Translate => drift::translate(&mut self.bodies, &self.lists.dynamic, hf),
-            StageKind::Rotate(class) => rotate(&mut self.bodies, &self.lists, class, self.rotation, hf),
-            StageKind::Rk4 { group, forces } => {
+            StageKind::Forces(g) => kick::kick(&mut self.bodies, &group(g).dynamic, hf, src),
+            StageKind::Translate(g) => drift::translate(&mut self.bodies, &group(g).dynamic, hf),
+            StageKind::Rotate(class, g) => rotate(&mut self.bodies, group(g), class, self.rotation, hf),
+            StageKind::Rk4 { group: g, forces } => {
                 let none = KickSources { gravity: Vec3::zeros(), force: false, torque: false };
-                let list = std::mem::take(self.group_mut(group));
-                rk4::step(&mut self.bodies, &list, hf, if forces { src } else { &none });
-                *self.group_mut(group) = list;
+                rk4::step(&mut self.bodies, &group(g).dynamic, hf, if forces { src } else { &none });
             }
-            StageKind::Gyroscopic(Gyroscopic::Explicit) => {
-                symplectic_euler::gyroscopic_explicit(&mut self.bodies, &self.lists.anisotropic_index, hf)
+            StageKind::Gyroscopic(Gyroscopic::Explicit, g) => {
+                symplectic_euler::gyroscopic_explicit(&mut self.bodies, &group(g).anisotropic_index, hf)
             }
-            StageKind::Gyroscopic(Gyroscopic::Implicit) => {
-                implicit_gyro::gyroscopic_implicit(&mut self.bodies, &self.lists.anisotropic_index, hf)
+            StageKind::Gyroscopic(Gyroscopic::Implicit, g) => {
+                implicit_gyro::gyroscopic_implicit(&mut self.bodies, &group(g).anisotropic_index, hf)
             }
             StageKind::Kinematic => move_kinematic(&mut self.bodies, &self.kinematic, hf),
             StageKind::BroadPhase => {
@@ -127,14 +126,6 @@ impl World {
         }
     }
 
-    fn group_mut(&mut self, g: Group) -> &mut Vec<u32> {
-        match g {
-            Group::All => &mut self.lists.dynamic,
-            Group::Free => &mut self.free,
-            Group::Touching => &mut self.touching,
-        }
-    }
-
     fn with_solver(&mut self, f: impl FnOnce(&mut crate::solve::ContactSolver, &mut Bodies)) {
         if let Some(c) = self.collision.as_mut() {
             f(&mut c.solver, &mut self.bodies);
@@ -149,15 +140,8 @@ impl World {
             self.relist();
         }
         let Some(c) = self.collision.as_ref() else { return };
-        self.touching.clear();
-        self.free.clear();
-        for &i in &self.lists.dynamic {
-            if c.solver.touching[i as usize] {
-                self.touching.push(i);
-            } else {
-                self.free.push(i);
-            }
-        }
+        let [free, touching] = &mut self.split;
+        self.lists.partition(&c.solver.touching, free, touching);
     }
 
     fn sleep(&mut self, dt: f64) {

@@ -24,9 +24,8 @@ pub struct World {
     pub(crate) rotation: Rotation,
     /// Awake dynamic bodies by class (rebuilt when bodies sleep or wake).
     pub(crate) lists: BodyLists,
-    /// This step's awake dynamic bodies in contact, and the others.
-    pub(crate) touching: Vec<u32>,
-    pub(crate) free: Vec<u32>,
+    /// This step's awake dynamic bodies in free flight and in contact, by class.
+    pub(crate) split: [BodyLists; 2],
     pub(crate) kinematic: Vec<u32>,
     pub collision: Option<Collision>,
     /// The scene's joints and what they did over the last substep.
@@ -79,9 +78,8 @@ impl World {
             settings,
             substeps,
             rotation,
-            free: lists.dynamic.clone(),
+            split: [lists.clone(), BodyLists::default()],
             lists,
-            touching: Vec::new(),
             kinematic,
             collision,
             joints: crate::xpbd::joints::Joints::new(scene.joints().to_vec()),

@@ -1,6 +1,7 @@
 //! The pyramid and ball-pit scenes of `benches/peers/` built in Rust, stepped and
 //! timed without Python in the way: a target for `perf record` when working on the
 //! contact pipeline. `cargo run --release --example contact_scenes [pyramid|ball_pit] [steps]`
+//! (`WINDOW=50` in the environment: time and stage profile every 50 steps).
 use rigidrs::body::Shape;
 use rigidrs::world::{BodySpec, Scene, Settings, World};
 use std::time::Instant;
@@ -81,8 +82,19 @@ fn main() {
         _ => pyramid(20),
     };
     let t = Instant::now();
-    for _ in 0..steps {
+    // `WINDOW=50` prints the step time and the stage profile every 50 steps.
+    let window: u64 = std::env::var("WINDOW").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    let mut tw = Instant::now();
+    for k in 1..=steps {
         w.step(1).unwrap();
+        if window > 0 && k % window == 0 {
+            let per_step = |s: f64| s * 1e6 / window as f64;
+            let (rows, _) = w.profile.report();
+            let stages: Vec<String> = rows.iter().map(|(n, s)| format!("{n} {:.0}", per_step(*s))).collect();
+            eprintln!("steps to {k}: {:.0} µs/step; {}", per_step(tw.elapsed().as_secs_f64()), stages.join(", "));
+            w.profile.reset();
+            tw = Instant::now();
+        }
     }
     let s = t.elapsed().as_secs_f64();
     println!("{scene}: {steps} steps in {s:.3} s, {:.0} steps/s", steps as f64 / s);

@@ -27,6 +27,14 @@ impl Aabb {
         (0..3).all(|k| self.min[k] >= o.min[k] && self.max[k] <= o.max[k])
     }
 
+    /// The largest gap (m) between this box and `inner`, a box inside it: a box
+    /// grown while its body moved fast and kept after it slowed down would pair
+    /// it with every neighbour it no longer reaches.
+    #[inline(always)]
+    pub fn slack(&self, inner: &Aabb) -> f64 {
+        (0..3).map(|k| (inner.min[k] - self.min[k]).max(self.max[k] - inner.max[k])).fold(0.0, f64::max)
+    }
+
     /// The smallest box holding both.
     pub fn union(mut self, o: &Aabb) -> Self {
         for k in 0..3 {
@@ -77,7 +85,8 @@ impl HalfSpace {
 pub struct SweepAndPrune {
     axis: usize,
     order: Vec<u32>,
-    active: Vec<u32>,
+    /// The boxes in sweep order, packed: the sweep reads them front to back.
+    sorted: Vec<Aabb>,
 }
 
 impl SweepAndPrune {
@@ -104,19 +113,23 @@ impl SweepAndPrune {
         }
         let axis = self.axis;
         insertion_sort(&mut self.order, |i| boxes[i as usize].min[axis]);
-        self.active.clear();
-        for &i in &self.order {
-            let a = &boxes[i as usize];
-            self.active.retain(|&j| boxes[j as usize].max[axis] >= a.min[axis]);
-            for &j in &self.active {
-                if a.overlaps(&boxes[j as usize]) {
+        self.sorted.clear();
+        self.sorted.extend(self.order.iter().map(|&i| boxes[i as usize]));
+        // Each box meets the ones after it whose intervals start before its own
+        // ends: exactly the pairs that overlap on the sweep axis, no more.
+        for (a, box_a) in self.sorted.iter().enumerate() {
+            for (b, box_b) in self.sorted[a + 1..].iter().enumerate() {
+                if box_b.min[axis] > box_a.max[axis] {
+                    break;
+                }
+                if box_a.overlaps(box_b) {
+                    let (i, j) = (self.order[a], self.order[a + 1 + b]);
                     let (lo, hi) = if i < j { (i, j) } else { (j, i) };
                     if keep(lo, hi) {
                         out.push((lo, hi));
                     }
                 }
             }
-            self.active.push(i);
         }
     }
 }

@@ -6,6 +6,7 @@ use parry3d_f64::query::{ContactManifold, ContactManifoldsWorkspace, DefaultQuer
 
 use super::collider::Collider;
 use crate::body::Bodies;
+use crate::math::Vec3;
 
 /// What a contact point carries from one step to the next (world frame).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -49,6 +50,8 @@ pub struct Prediction {
     pub margin: f64,
     /// Step (s): points moving toward each other within `dt` are predicted.
     pub dt: f64,
+    /// Gravity (m/s²).
+    pub gravity: Vec3,
 }
 
 impl NarrowPhase {
@@ -76,8 +79,17 @@ impl NarrowPhase {
                     pairs.push(o);
                 }
             }
+            let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
+            let prediction = prediction_of(c1, c2, bodies, pred);
+            // The balls around the two bodies that hold their shapes are further
+            // apart than the prediction: no contact, and no pair kept (a pair
+            // carries warm-start data only for points within its prediction).
+            if far_apart(c1, c2, bodies, prediction) {
+                continue;
+            }
             let mut state = state.unwrap_or_else(|| PairState { key: (i, j), ..Default::default() });
-            if update_pair(&mut state, colliders, bodies, pred) {
+            state.prediction = prediction;
+            if update_pair(&mut state, c1, c2, bodies) {
                 self.touching.push(pairs.len() as u32);
             }
             pairs.push(state);
@@ -88,18 +100,29 @@ impl NarrowPhase {
     }
 }
 
-/// The manifolds of one candidate pair; returns whether some point is within its
-/// prediction.
-fn update_pair(state: &mut PairState, colliders: &[Collider], bodies: &Bodies, pred: &Prediction) -> bool {
-    let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
+/// How far ahead (m) contacts are predicted for a pair. Contacts are predicted
+/// as far as the bodies can travel in a step, but a body without CCD looks no
+/// further than its own size ahead: a bullet without CCD may tunnel, with it
+/// never does.
+fn prediction_of(c1: &Collider, c2: &Collider, bodies: &Bodies, pred: &Prediction) -> f64 {
+    let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
+    pred.margin + (pred.dt * approach_bound(c1, c2, bodies, pred)).min(reach)
+}
+
+/// Whether the balls of radius `reach` around the two bodies' centres are more
+/// than `prediction` apart (never for a half-space, whose reach is infinite).
+fn far_apart(c1: &Collider, c2: &Collider, bodies: &Bodies, prediction: f64) -> bool {
+    let d = Vec3::from(bodies.position[c1.body as usize]) - Vec3::from(bodies.position[c2.body as usize]);
+    let r = c1.reach + c2.reach + prediction;
+    d.norm_squared() > r * r
+}
+
+/// The manifolds of one candidate pair, up to its `prediction`; returns whether
+/// some point is within it.
+fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bodies) -> bool {
     let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
     let pos12 = pose1.inv_mul(&pose2);
-    // Contacts are predicted as far as the bodies can travel in a step, but a
-    // body without CCD looks no further than its own size ahead: a bullet
-    // without CCD may tunnel, with it never does.
-    let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
-    let prediction = pred.margin + (pred.dt * approach_bound(c1, c2, bodies)).min(reach);
-    state.prediction = prediction;
+    let prediction = state.prediction;
     if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
         // Unsupported pairs are rejected when the world is built; none reach here.
         let _ = DefaultQueryDispatcher.contact_manifolds(
@@ -152,18 +175,25 @@ fn swap_sides(m: &mut Manifold) {
     }
 }
 
-/// An upper bound of the speed at which the two shapes approach (m/s).
-fn approach_bound(c1: &Collider, c2: &Collider, b: &Bodies) -> f64 {
-    let speed = |c: &Collider| {
-        let i = c.body as usize;
-        let v = b.linear_velocity[i];
-        let w = b.angular_velocity[i];
-        let n = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+/// An upper bound of the speed at which the two shapes approach over a step
+/// (m/s): their relative velocity and what it can gain in a step from gravity and
+/// applied forces (gravity cancels between two free bodies), and how fast each
+/// one's surface turns, torques included. Bodies falling side by side do not
+/// approach, whatever their speed.
+fn approach_bound(c1: &Collider, c2: &Collider, b: &Bodies, pred: &Prediction) -> f64 {
+    let n = |a: Vec3| a.norm();
+    let (i1, i2) = (c1.body as usize, c2.body as usize);
+    let accel = |i: usize| if b.awake(i) { pred.gravity + Vec3::from(b.force[i]) * b.inv_mass[i] } else { Vec3::zeros() };
+    let dv = Vec3::from(b.linear_velocity[i1]) - Vec3::from(b.linear_velocity[i2]) + (accel(i1) - accel(i2)) * pred.dt;
+    let turning = |c: &Collider, i: usize| {
+        let mut w = n(Vec3::from(b.angular_velocity[i]));
+        if b.awake(i) {
+            w += pred.dt * n(Vec3::from(b.torque[i])) * b.inv_inertia[i].iter().fold(0.0, |m: f64, &x| m.max(x));
+        }
         // A half-space never turns (its reach is infinite): no 0·∞ here.
-        let w = n(w);
-        n(v) + if w > 0.0 { w * c.reach } else { 0.0 }
+        if w > 0.0 { w * c.reach } else { 0.0 }
     };
-    speed(c1) + speed(c2)
+    n(dv) + turning(c1, i1) + turning(c2, i2)
 }
 
 /// Whether parry generates contacts between these two shapes (checked at build).

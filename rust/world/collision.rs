@@ -55,9 +55,12 @@ pub(crate) fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
     let reach = if infinite {
         f64::INFINITY
     } else {
+        // The farther corner of the box or of the bounding sphere, whichever is
+        // nearer: r for a ball, not the √3 r of its box's corner.
         let a = shape.parry.compute_aabb(&local);
         let corner = |k: usize| if a.mins[k].abs() > a.maxs[k].abs() { a.mins[k] } else { a.maxs[k] };
-        Vec3::new(corner(0), corner(1), corner(2)).norm()
+        let s = shape.parry.compute_bounding_sphere(&local);
+        Vec3::new(corner(0), corner(1), corner(2)).norm().min(s.center.coords.norm() + s.radius)
     };
     Some(Collider {
         body: i as u32,
@@ -166,8 +169,10 @@ impl Collision {
                 a = a.swept(d).loosened(if turning { 0.0 } else { w * c.reach });
             }
             self.boxes[k as usize] = a;
-            if !a.inside(&self.fat[k as usize]) {
-                self.fat[k as usize] = a.loosened(self.margin.max(0.02 * c.reach));
+            let grow = self.margin.max(0.02 * c.reach);
+            let fat = &mut self.fat[k as usize];
+            if !a.inside(fat) || fat.slack(&a) > 4.0 * grow {
+                *fat = a.loosened(grow);
                 moved_out = true;
             }
         }
@@ -220,7 +225,7 @@ impl Collision {
             self.solver.prepare(&self.narrow, &self.colliders, b, h, gravity);
             return false;
         }
-        let pred = Prediction { margin: self.margin, dt };
+        let pred = Prediction { margin: self.margin, dt, gravity: *gravity };
         let cols = &self.colliders;
         self.narrow.update(cols, b, &self.candidates, &pred, |i, j| {
             !b.moving(cols[i as usize].body as usize) && !b.moving(cols[j as usize].body as usize)
@@ -314,4 +319,63 @@ fn check_supported(cols: &[Collider], kinds: &[BodyKind]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::body::Shape;
+    use crate::world::{BodySpec, Scene, Settings, World};
+
+    fn balls(gravity: [f64; 3], specs: &[([f64; 3], [f64; 3], bool)]) -> World {
+        let mut sc = Scene::new(gravity).unwrap();
+        for &(position, linear_velocity, fixed) in specs {
+            let shape = Some(Shape::sphere(0.1).unwrap());
+            let density = (!fixed).then_some(1000.0);
+            sc.add_body(BodySpec { shape, density, position, linear_velocity, fixed, ..Default::default() }).unwrap();
+        }
+        let mut s = Settings::new(1.0 / 60.0);
+        s.sleep.enabled = false;
+        sc.build(&s).unwrap()
+    }
+
+    #[test]
+    fn a_ball_reaches_as_far_as_its_radius_not_its_box_corner() {
+        let w = balls([0.0; 3], &[([0.0; 3], [0.0; 3], false), ([1.0, 0.0, 0.0], [0.0; 3], false)]);
+        let reach = w.collision.as_ref().unwrap().colliders[0].reach;
+        assert!((reach - 0.1).abs() <= 1e-15, "{reach}");
+    }
+
+    #[test]
+    fn balls_falling_side_by_side_predict_no_contact() {
+        // 5 cm apart at 10 m/s: the distance either could travel in a step (17 cm)
+        // spans the gap, but they do not approach each other.
+        let v = [0.0, 0.0, -10.0];
+        let mut w = balls([0.0, 0.0, -9.81], &[([0.0; 3], v, false), ([0.25, 0.0, 0.0], v, false)]);
+        w.step(1).unwrap();
+        assert!(w.collision.as_ref().unwrap().narrow.touching.is_empty());
+        assert!(w.collision.as_ref().unwrap().narrow.pairs.is_empty());
+    }
+
+    #[test]
+    fn a_ball_falling_onto_a_fixed_one_predicts_the_contact() {
+        // 5 cm above it at 10 m/s: it would pass 12 cm into it within the step.
+        let mut w = balls([0.0, 0.0, -9.81], &[([0.0; 3], [0.0; 3], true), ([0.0, 0.0, 0.25], [0.0, 0.0, -10.0], false)]);
+        let c = w.collision.as_mut().unwrap();
+        c.broad_phase(&w.bodies, 1.0 / 60.0);
+        c.narrow_phase(&mut w.bodies, 1.0 / 60.0, 1.0 / 240.0, &nalgebra::Vector3::new(0.0, 0.0, -9.81));
+        assert_eq!(c.narrow.touching.len(), 1);
+    }
+
+    #[test]
+    fn the_fat_box_of_a_body_that_slowed_down_shrinks_back() {
+        let mut w = balls([0.0; 3], &[([0.0; 3], [60.0, 0.0, 0.0], false), ([10.0, 5.0, 0.0], [0.0; 3], false)]);
+        w.step(1).unwrap();
+        let c = w.collision.as_ref().unwrap();
+        assert!(c.fat[0].max[0] - c.fat[0].min[0] > 1.2, "swept a metre: {:?}", c.fat[0]);
+        w.bodies.linear_velocity[0] = [0.0; 3];
+        w.step(1).unwrap();
+        let c = w.collision.as_ref().unwrap();
+        let grow = c.margin.max(0.02 * c.colliders[0].reach);
+        assert!(c.fat[0].slack(&c.boxes[0]) <= grow + 1e-12, "{:?} around {:?}", c.fat[0], c.boxes[0]);
+    }
 }

@@ -36,17 +36,33 @@ impl ContactSolver {
         if gravity <= 0.0 {
             return;
         }
-        let level = self.levels(up);
-        for ci in 0..self.constraints.len() {
-            let c = self.constraints[ci];
-            let (l1, l2) = (level[c.s1 as usize], level[c.s2 as usize]);
+        // Which way up a contact would be projected, if at all; the heights are
+        // only needed (a breadth-first walk) when some contact may be.
+        let way = |c: &Constraint| {
             let rising = c.normal.dot(up);
-            let frozen = if l1 < l2 && rising >= SUPPORT_COS && self.needs(&c, c.s1, c.s2, gravity * h) {
+            if rising >= SUPPORT_COS && self.needs(c, c.s1, c.s2, gravity * h) {
                 1
-            } else if l2 < l1 && rising <= -SUPPORT_COS && self.needs(&c, c.s2, c.s1, gravity * h) {
+            } else if rising <= -SUPPORT_COS && self.needs(c, c.s2, c.s1, gravity * h) {
                 2
             } else {
                 0
+            }
+        };
+        let ways: Vec<u8> = self.constraints.iter().map(way).collect();
+        for c in self.constraints.iter_mut() {
+            c.frozen = 0;
+        }
+        if ways.iter().all(|&w| w == 0) {
+            return;
+        }
+        let level = self.levels(up);
+        for (ci, &w) in ways.iter().enumerate() {
+            let c = self.constraints[ci];
+            let (l1, l2) = (level[c.s1 as usize], level[c.s2 as usize]);
+            let frozen = match w {
+                1 if l1 < l2 => 1,
+                2 if l2 < l1 => 2,
+                _ => 0,
             };
             self.constraints[ci].frozen = frozen;
             if frozen != 0 {
@@ -57,24 +73,39 @@ impl ContactSolver {
         self.shock.sort_unstable();
     }
 
+    /// Height of each solver body in the support graph: breadth first from the
+    /// fixed and kinematic bodies over the contacts whose normal is within 45° of
+    /// the vertical.
     fn levels(&self, up: &Vec3) -> Vec<u32> {
         let n = self.bodies.len();
+        // The support graph as adjacency lists in one array (CSR).
+        let supports = || self.constraints.iter().filter(|c| c.normal.dot(up).abs() >= SUPPORT_COS);
+        let mut start = vec![0u32; n + 1];
+        for c in supports() {
+            start[c.s1 as usize + 1] += 1;
+            start[c.s2 as usize + 1] += 1;
+        }
+        for k in 0..n {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut next = vec![0u32; start[n] as usize];
+        for c in supports() {
+            for (a, b) in [(c.s1, c.s2), (c.s2, c.s1)] {
+                next[fill[a as usize] as usize] = b;
+                fill[a as usize] += 1;
+            }
+        }
         let mut level = vec![u32::MAX; n];
-        let mut frontier: Vec<usize> = (0..n).filter(|&k| !self.bodies[k].dynamic).collect();
-        frontier.iter().for_each(|&k| level[k] = 0);
-        let mut depth = 0;
-        while !frontier.is_empty() {
-            depth += 1;
-            let mut next = Vec::new();
-            for c in self.constraints.iter().filter(|c| c.normal.dot(up).abs() >= SUPPORT_COS) {
-                for (a, b) in [(c.s1 as usize, c.s2 as usize), (c.s2 as usize, c.s1 as usize)] {
-                    if level[a] == depth - 1 && level[b] == u32::MAX {
-                        level[b] = depth;
-                        next.push(b);
-                    }
+        let mut queue: std::collections::VecDeque<usize> = (0..n).filter(|&k| !self.bodies[k].dynamic).collect();
+        queue.iter().for_each(|&k| level[k] = 0);
+        while let Some(a) = queue.pop_front() {
+            for &b in &next[start[a] as usize..start[a + 1] as usize] {
+                if level[b as usize] == u32::MAX {
+                    level[b as usize] = level[a] + 1;
+                    queue.push_back(b as usize);
                 }
             }
-            frontier = next;
         }
         level
     }

@@ -90,7 +90,7 @@ pub struct Point {
     pub point: Vec3,
     /// `1/K` with `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` (kg).
     pub normal_mass: f64,
-    /// The same with the lower body of a projected support contact held still (kg).
+    /// The same with the lower body of a one-way support contact held (kg).
     pub shock_mass: f64,
     /// Accumulated normal impulse of the current substep (N·s).
     pub normal_impulse: f64,
@@ -125,8 +125,8 @@ pub struct Constraint {
     pub manifold: u32,
     /// Whether its points started this step without impulses to warm start from.
     pub fresh: bool,
-    /// Shock propagation (see `super::shock`): which body is held still, 1 or 2;
-    /// 0 when the contact is not projected.
+    /// Shock propagation (see `super::shock`): which body a one-way contact holds,
+    /// 1 or 2; 0 for a contact solved both ways.
     pub frozen: u8,
 }
 
@@ -149,8 +149,6 @@ pub struct ContactSolver {
     pub inv_h: f64,
     pub settings: SolverSettings,
     pub(crate) substeps_done: u32,
-    /// Projected support contacts, `(height, constraint)` from the ground up.
-    pub(crate) shock: Vec<(u32, u32)>,
     /// Whether the solver bodies have been gathered since `prepare`.
     pub(crate) gathered: bool,
 }
@@ -220,7 +218,7 @@ impl ContactSolver {
         }
         let g = gravity.norm();
         let up = if g > 0.0 { -gravity / g } else { Vec3::zeros() };
-        self.plan_shock(&up, g, h);
+        self.plan_shock(&up, g);
     }
 
     /// What the constraints of a collider pair share, at the bodies' current poses.
@@ -335,6 +333,13 @@ impl ContactSolver {
             normal_mass(p, b1, b2, &c.normal);
         }
         self.shock_masses(ci);
+        self.refresh_patch(ci);
+    }
+
+    /// The patch of constraint `ci` at its points' current arms, keeping its
+    /// impulses and state.
+    pub(crate) fn refresh_patch(&mut self, ci: usize) {
+        let c = self.constraints[ci];
         let old = self.patches[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
         self.patches[ci] = Patch {
@@ -378,7 +383,7 @@ impl ContactSolver {
                     p.total_normal += p.normal_impulse;
                 }
                 settled += p.normal_impulse;
-                pair.apply_normal(c, p, p.normal_impulse);
+                pair.apply_normal_one_way(c, p, p.normal_impulse);
             }
             let f = &mut self.patches[ci];
             f.settled = settled;

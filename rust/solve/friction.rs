@@ -50,8 +50,15 @@ pub struct Patch {
 
 impl Patch {
     /// Arms, effective masses and lever of the patch of `points` at their centre.
+    /// The held lower body of a one-way contact (see `super::shock`) counts as
+    /// immovable.
     pub fn new(c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> Self {
-        let (a1, a2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+        let held = SolverBody::default();
+        let (a1, a2) = match c.frozen {
+            1 => (&held, &bodies[c.s2 as usize]),
+            2 => (&bodies[c.s1 as usize], &held),
+            _ => (&bodies[c.s1 as usize], &bodies[c.s2 as usize]),
+        };
         let n = points.len() as f64;
         let r1 = points.iter().map(|p| p.r1).sum::<Vec3>() / n;
         let r2 = points.iter().map(|p| p.r2).sum::<Vec3>() / n;

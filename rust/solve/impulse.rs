@@ -44,11 +44,12 @@ impl ContactSolver {
                     (0.0, 1.0, 0.0)
                 };
                 let vn = pair.normal_velocity(c, p);
-                let imp = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
+                let mass = if c.frozen != 0 { p.shock_mass } else { p.normal_mass };
+                let imp = -mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
                 let total = (p.normal_impulse + imp).max(0.0);
                 let delta = total - p.normal_impulse;
                 p.normal_impulse = total;
-                pair.apply_normal(c, p, delta);
+                pair.apply_normal_one_way(c, p, delta);
             }
             pair.store(&mut self.bodies, c);
         }

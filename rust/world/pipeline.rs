@@ -60,8 +60,6 @@ pub enum StageKind {
     Friction { relax: bool },
     /// Non-penetration; `relax`: without position bias.
     Normal { relax: bool },
-    /// Shock propagation over heavily loaded support contacts after a pass.
-    Shock { relax: bool },
     /// `p += h v` for a group.
     Translate(Group),
     /// Rotation of the bodies of one inertia class and group by the integrator's method.
@@ -114,13 +112,11 @@ impl Stage {
             StageKind::WarmStart
             | StageKind::Normal { relax: false }
             | StageKind::Gather { relax: false }
-            | StageKind::Scatter { relax: false }
-            | StageKind::Shock { relax: false } => "contact_solve",
+            | StageKind::Scatter { relax: false } => "contact_solve",
             StageKind::Friction { .. } => "friction",
             StageKind::Normal { relax: true }
             | StageKind::Gather { relax: true }
-            | StageKind::Scatter { relax: true }
-            | StageKind::Shock { relax: true } => "contact_relax",
+            | StageKind::Scatter { relax: true } => "contact_relax",
             StageKind::Translate(_) => "translate",
             StageKind::Rotate(InertiaClass::Isotropic, _) => "rotate_isotropic",
             StageKind::Rotate(InertiaClass::Symmetric, _) => "rotate_symmetric",
@@ -159,8 +155,6 @@ pub struct PlanInputs {
     /// The scene has particles / shape-matching clusters.
     pub particles: bool,
     pub clusters: bool,
-    /// Gravity acts: heavily loaded support contacts may need shock propagation.
-    pub gravity: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -361,9 +355,6 @@ fn solve(sub: &mut Vec<Stage>, inp: &PlanInputs, relax: bool) {
         if inp.friction {
             sub.push(Stage::new(StageKind::Friction { relax }, 1.0));
         }
-    }
-    if inp.gravity {
-        sub.push(Stage::new(StageKind::Shock { relax }, 1.0));
     }
     sub.push(Stage::new(StageKind::Scatter { relax }, 1.0));
 }

@@ -112,7 +112,6 @@ impl World {
             StageKind::WarmStart => self.with_solver(|s, _| s.warm_start()),
             StageKind::Friction { .. } => self.with_solver(|s, _| s.solve_friction()),
             StageKind::Normal { relax } => self.with_solver(|s, _| s.solve_normal(relax)),
-            StageKind::Shock { relax } => self.with_solver(|s, _| s.shock(relax)),
             StageKind::Ccd => {
                 if let Some(c) = self.collision.as_mut() {
                     c.ccd_stage(&mut self.bodies);

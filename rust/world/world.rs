@@ -65,7 +65,6 @@ impl World {
             kinematic: descs.iter().any(|d| d.init.kind == BodyKind::Kinematic),
             sleep: collision.is_some() && settings.sleep.enabled,
             iterations: settings.iterations,
-            gravity: scene.gravity != [0.0; 3],
             joints: !scene.joints().is_empty(),
             particles: !scene.xpbd.is_empty(),
             clusters: !scene.xpbd.clusters.is_empty(),

@@ -45,6 +45,9 @@ pub struct Collider {
     pub reach: f64,
     /// Whether the body asked for continuous collision detection.
     pub ccd: bool,
+    /// The radius of a ball shape (m): two balls meet in one point, computed
+    /// without parry's manifolds.
+    pub ball: Option<f64>,
 }
 
 impl Collider {

@@ -2,7 +2,9 @@
 //! parry matches new contact points to old ones by feature id, carrying the
 //! accumulated impulses used to warm-start the solver.
 
-use parry3d_f64::query::{ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use nalgebra::{Isometry3, Vector3};
+use parry3d_f64::query::{ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher, TrackedContact};
+use parry3d_f64::shape::PackedFeatureId;
 
 use super::collider::Collider;
 use crate::body::Bodies;
@@ -22,6 +24,42 @@ pub struct ContactData {
 }
 
 pub type Manifold = ContactManifold<(), ContactData>;
+pub type Tracked = TrackedContact<ContactData>;
+
+/// The one point where two balls meet, kept in the pair itself: as parry's
+/// ball–ball manifold, without its two heap indirections per pair.
+#[derive(Clone, Copy, Debug)]
+pub struct BallContact {
+    /// Normal from ball 1 to ball 2 in ball 1's frame.
+    pub local_n1: Vector3<f64>,
+    pub point: Tracked,
+}
+
+/// The contact points of one manifold as the solver reads them: parry's, or a
+/// ball pair's.
+pub struct Contacts<'a> {
+    /// Normal in the frame of shape 1 (of its sub-shape, if any).
+    pub local_n1: Vector3<f64>,
+    /// Poses of the sub-shapes in their shapes (compounds, meshes).
+    pub subshape_pos1: Option<Isometry3<f64>>,
+    pub subshape_pos2: Option<Isometry3<f64>>,
+    pub points: &'a [Tracked],
+}
+
+impl<'a> From<&'a Manifold> for Contacts<'a> {
+    fn from(m: &'a Manifold) -> Self {
+        Self { local_n1: m.local_n1, subshape_pos1: m.subshape_pos1, subshape_pos2: m.subshape_pos2, points: &m.points }
+    }
+}
+
+impl<'a> From<&'a BallContact> for Contacts<'a> {
+    fn from(b: &'a BallContact) -> Self {
+        Self { local_n1: b.local_n1, subshape_pos1: None, subshape_pos2: None, points: std::slice::from_ref(&b.point) }
+    }
+}
+
+/// The manifold index standing for a pair's [`BallContact`].
+pub const BALL: u32 = u32::MAX;
 
 #[derive(Default)]
 pub struct PairState {
@@ -32,6 +70,27 @@ pub struct PairState {
     /// may report points of a manifold beyond it, which are not contacts yet.
     pub prediction: f64,
     workspace: Option<ContactManifoldsWorkspace>,
+    /// For two balls, their contact (then `manifolds` stays empty).
+    pub ball: Option<BallContact>,
+}
+
+impl PairState {
+    /// The pair's manifolds for the solver, each with its index (`BALL` for a ball
+    /// pair's contact).
+    pub fn contacts(&self) -> impl Iterator<Item = (u32, Contacts<'_>)> {
+        let ball = self.ball.iter().map(|b| (BALL, Contacts::from(b)));
+        ball.chain(self.manifolds.iter().enumerate().map(|(k, m)| (k as u32, Contacts::from(m))))
+    }
+
+    /// The points of manifold `index` (see [`PairState::contacts`]), to store what
+    /// the solver carries to the next step.
+    pub fn points_mut(&mut self, index: u32) -> Option<&mut [Tracked]> {
+        if index == BALL {
+            self.ball.as_mut().map(|b| std::slice::from_mut(&mut b.point))
+        } else {
+            self.manifolds.get_mut(index as usize).map(|m| &mut m.points[..])
+        }
+    }
 }
 
 /// The persistent pairs, sorted by key (the broad phase's candidates come sorted,
@@ -67,16 +126,38 @@ impl NarrowPhase {
         dormant: impl Fn(u32, u32) -> bool,
     ) {
         self.touching.clear();
-        let mut last = std::mem::take(&mut self.pairs);
+        // While the candidates are the pairs kept from the last step, in order (a
+        // scene that moves in place), each is updated where it lies.
+        let mut kept = 0;
+        for (&(i, j), state) in candidates.iter().zip(self.pairs.iter_mut()) {
+            if state.key != (i, j) {
+                break;
+            }
+            let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
+            let prediction = prediction_of(c1, c2, bodies, pred);
+            if far_apart(c1, c2, bodies, prediction) {
+                break;
+            }
+            state.prediction = prediction;
+            if update_pair(state, c1, c2, bodies) {
+                self.touching.push(kept as u32);
+            }
+            kept += 1;
+        }
+        if kept == candidates.len() && kept == self.pairs.len() {
+            return;
+        }
+        // The rest by a merge of the remaining candidates with the remaining pairs.
+        let mut last = std::mem::take(&mut self.spare);
+        last.extend(self.pairs.drain(kept..));
         let mut old = last.drain(..).peekable();
-        let mut pairs = std::mem::take(&mut self.spare);
-        for &(i, j) in candidates {
+        for &(i, j) in &candidates[kept..] {
             let mut state = None;
             while let Some(o) = old.next_if(|o| o.key <= (i, j)) {
                 if o.key == (i, j) {
                     state = Some(o);
                 } else if dormant(o.key.0, o.key.1) {
-                    pairs.push(o);
+                    self.pairs.push(o);
                 }
             }
             let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
@@ -90,12 +171,11 @@ impl NarrowPhase {
             let mut state = state.unwrap_or_else(|| PairState { key: (i, j), ..Default::default() });
             state.prediction = prediction;
             if update_pair(&mut state, c1, c2, bodies) {
-                self.touching.push(pairs.len() as u32);
+                self.touching.push(self.pairs.len() as u32);
             }
-            pairs.push(state);
+            self.pairs.push(state);
         }
-        pairs.extend(old.filter(|o| dormant(o.key.0, o.key.1)));
-        self.pairs = pairs;
+        self.pairs.extend(old.filter(|o| dormant(o.key.0, o.key.1)));
         self.spare = last;
     }
 }
@@ -123,6 +203,10 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
     let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
     let pos12 = pose1.inv_mul(&pose2);
     let prediction = state.prediction;
+    if let (Some(r1), Some(r2)) = (c1.ball, c2.ball) {
+        ball_ball(&pos12, r1, r2, prediction, &mut state.ball);
+        return state.ball.is_some_and(|b| b.point.dist <= prediction);
+    }
     if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
         // Unsupported pairs are rejected when the world is built; none reach here.
         let _ = DefaultQueryDispatcher.contact_manifolds(
@@ -135,6 +219,26 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
         );
     }
     state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction))
+}
+
+/// The contact of two balls of radii `r1`, `r2` (`pos12`: ball 2 in ball 1's
+/// frame), as parry's ball–ball manifold has it: none beyond `prediction`, and the
+/// warm-start data kept while it lasts.
+fn ball_ball(pos12: &Isometry3<f64>, r1: f64, r2: f64, prediction: f64, ball: &mut Option<BallContact>) {
+    let d = pos12.translation.vector;
+    let centres = d.norm();
+    let dist = centres - r1 - r2;
+    if dist >= prediction {
+        *ball = None;
+        return;
+    }
+    let local_n1 = if centres != 0.0 { d / centres } else { Vector3::y() };
+    let local_n2 = pos12.inverse_transform_vector(&-local_n1);
+    let face = PackedFeatureId::face(0);
+    let data = ball.map(|b| b.point.data).unwrap_or_default();
+    let mut point = Tracked::new((local_n1 * r1).into(), (local_n2 * r2).into(), face, face, dist);
+    point.data = data;
+    *ball = Some(BallContact { local_n1, point });
 }
 
 /// The half-space–hull pair, either way round, by [`super::plane_hull`].

@@ -15,7 +15,7 @@ use super::solver_body::{Gap, Pair, SolverBody};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
 use crate::collide::material::{combine, ContactMaterial};
-use crate::collide::narrow_phase::{ContactReport, Manifold, NarrowPhase};
+use crate::collide::narrow_phase::{ContactReport, Contacts, NarrowPhase};
 use nalgebra::Isometry3;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
@@ -212,8 +212,8 @@ impl ContactSolver {
         for &slot in &narrow.touching {
             let state = &narrow.pairs[slot as usize];
             let ctx = self.pair_context(colliders, b, state.key, slot);
-            for (m, manifold) in state.manifolds.iter().enumerate() {
-                self.push_manifold(manifold, &ctx, m as u32, true, state.prediction);
+            for (m, contacts) in state.contacts() {
+                self.push_manifold(&contacts, &ctx, m, true, state.prediction);
             }
         }
         let g = gravity.norm();
@@ -247,7 +247,7 @@ impl ContactSolver {
     /// Appends the constraint of one parry manifold, of its points no further
     /// apart than `reach` (m; nothing if none is); `warm`: start from the impulses
     /// the manifold carries.
-    pub(crate) fn push_manifold(&mut self, manifold: &Manifold, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
+    pub(crate) fn push_manifold(&mut self, manifold: &Contacts, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
         if !manifold.points.iter().any(|tp| tp.dist <= reach) {
             return;
         }
@@ -339,17 +339,9 @@ impl ContactSolver {
     /// The patch of constraint `ci` at its points' current arms, keeping its
     /// impulses and state.
     pub(crate) fn refresh_patch(&mut self, ci: usize) {
-        let c = self.constraints[ci];
-        let old = self.patches[ci];
+        let c = &self.constraints[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
-        self.patches[ci] = Patch {
-            impulse: old.impulse,
-            twist: old.twist,
-            total: old.total,
-            sliding: old.sliding,
-            settled: old.settled,
-            ..Patch::new(&c, &self.points[range], &self.bodies)
-        };
+        self.patches[ci].set_geometry(c, &self.points[range], &self.bodies);
     }
 
     /// Applies a normal impulse `j` (N·s) at the point.
@@ -406,11 +398,10 @@ impl ContactSolver {
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
-            let manifold = narrow.pairs.get_mut(c.slot as usize).and_then(|s| s.manifolds.get_mut(c.manifold as usize));
-            let mut manifold = manifold;
+            let mut kept = narrow.pairs.get_mut(c.slot as usize).and_then(|s| s.points_mut(c.manifold));
             for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 p.total_normal += p.normal_impulse;
-                if let Some(tp) = manifold.as_mut().and_then(|m| m.points.get_mut(p.manifold_point as usize)) {
+                if let Some(tp) = kept.as_mut().and_then(|m| m.get_mut(p.manifold_point as usize)) {
                     tp.data.normal_impulse = p.normal_impulse;
                     tp.data.friction_impulse = friction;
                     tp.data.twist_impulse = f.twist * share;

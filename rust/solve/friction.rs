@@ -50,19 +50,33 @@ pub struct Patch {
 
 impl Patch {
     /// Arms, effective masses and lever of the patch of `points` at their centre.
-    /// The held lower body of a one-way contact (see `super::shock`) counts as
-    /// immovable.
     pub fn new(c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> Self {
-        let held = SolverBody::default();
+        let mut f = Patch::default();
+        f.set_geometry(c, points, bodies);
+        f
+    }
+
+    /// Brings the arms, effective masses and lever up to the points' current arms,
+    /// keeping the impulses and regime. The held lower body of a one-way contact
+    /// (see `super::shock`) counts as immovable.
+    pub fn set_geometry(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
+        let held;
         let (a1, a2) = match c.frozen {
-            1 => (&held, &bodies[c.s2 as usize]),
-            2 => (&bodies[c.s1 as usize], &held),
+            1 => {
+                held = SolverBody::default();
+                (&held, &bodies[c.s2 as usize])
+            }
+            2 => {
+                held = SolverBody::default();
+                (&bodies[c.s1 as usize], &held)
+            }
             _ => (&bodies[c.s1 as usize], &bodies[c.s2 as usize]),
         };
+        let f = self;
         let n = points.len() as f64;
         let r1 = points.iter().map(|p| p.r1).sum::<Vec3>() / n;
         let r2 = points.iter().map(|p| p.r2).sum::<Vec3>() / n;
-        let mut f = Patch { radius: points.iter().map(|p| (p.r1 - r1).norm()).sum::<f64>() / n, ..Default::default() };
+        f.radius = if points.len() > 1 { points.iter().map(|p| (p.r1 - r1).norm()).sum::<f64>() / n } else { 0.0 };
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);
@@ -81,8 +95,11 @@ impl Patch {
             f.in2 = a2.inv_i * c.normal;
             let kt = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
             f.twist_mass = if kt > 0.0 { 1.0 / kt } else { 0.0 };
+        } else {
+            f.in1 = Vec3::zeros();
+            f.in2 = Vec3::zeros();
+            f.twist_mass = 0.0;
         }
-        f
     }
 
     /// The tangential impulse after one solve, in the cone of normal impulse `jn`,

@@ -109,7 +109,7 @@ impl ContactSolver {
         }
         let ctx = self.pair_context(colliders, b, pair, slot);
         for (m, manifold) in manifolds.iter().enumerate() {
-            self.push_manifold(manifold, &ctx, m as u32, false, reach);
+            self.push_manifold(&manifold.into(), &ctx, m as u32, false, reach);
         }
     }
 

@@ -71,6 +71,7 @@ pub(crate) fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
         infinite,
         reach,
         ccd: d.ccd,
+        ball: shape.parry.as_ball().map(|b| b.radius),
     })
 }
 

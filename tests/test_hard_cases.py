@@ -5,7 +5,7 @@ cases whose coverage is extended here.
 its exact reference and assert it; ``test_every_case_names_existing_tests`` keeps
 that index honest (a renamed or deleted test fails it). A case the engine does not
 meet yet is a strict xfail with the measured numbers in its reason, never a looser
-bar (today there is none here; test_shape_pairs.py has one shape pair).
+bar (today there is none).
 
 Added here: the heavy symmetric top precessing at the slow root with every
 integrator (test_joints.py checks the default one and the order of convergence).

@@ -48,6 +48,9 @@ pub struct Collider {
     /// The radius of a ball shape (m): two balls meet in one point, computed
     /// without parry's manifolds.
     pub ball: Option<f64>,
+    /// A hull (or a compound with one) with a face of more than four corners,
+    /// which parry's manifolds hold at four (see `face_points`).
+    pub many_cornered: bool,
 }
 
 impl Collider {

@@ -208,6 +208,8 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
         return state.ball.is_some_and(|b| b.point.dist <= prediction);
     }
     if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
+        let many_cornered = c1.many_cornered || c2.many_cornered;
+        let kept = if many_cornered { super::face_points::keep(&state.manifolds) } else { Vec::new() };
         // Unsupported pairs are rejected when the world is built; none reach here.
         let _ = DefaultQueryDispatcher.contact_manifolds(
             &pos12,
@@ -217,6 +219,9 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
             &mut state.manifolds,
             &mut state.workspace,
         );
+        if many_cornered {
+            super::face_points::complete(&mut state.manifolds, c1, c2, &pos12, prediction, &kept);
+        }
     }
     state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction))
 }

@@ -410,6 +410,45 @@ def test_position_based_friction_stops_a_sliding_particle_at_the_coulomb_distanc
     assert np.abs(world.particles.velocity[p]).max() <= 1e-12
 
 
+def ball_on_a_big_particle(mu, gravity, v0=(0.0, 0.0, 0.0)):
+    """A 0.1 m particle resting on top of a pinned particle of radius 1000 m, whose
+    top is flat to 1e-4 over 0.5 m: particle-particle friction between them."""
+    scene = rr.Scene(gravity=gravity)
+    scene.add_particle((0.0, 0.0, -1000.0), radius=1000.0, fixed=True, friction=mu)
+    p = scene.add_particle((0.0, 0.0, 0.1), mass=1.0, radius=0.1, velocity=v0, friction=mu)
+    return scene.build(dt=1 / 240, substeps=4), p
+
+
+def test_particle_sliding_on_a_particle_stops_at_the_coulomb_distance():
+    # As on a rigid plane: v0²/(2μg), to the last substep's slip and the big
+    # particle's curvature (its slope at 0.5 m, 5e-4, adds 0.1 %; bar 1 %).
+    v0, mu = 2.0, 0.4
+    world, p = ball_on_a_big_particle(mu, (0.0, 0.0, -G), v0=(v0, 0.0, 0.0))
+    world.step(480)
+    travelled = world.particles.position[p, 0]
+    assert abs(travelled - v0**2 / (2 * mu * G)) <= 0.01 * v0**2 / (2 * mu * G)
+    assert np.abs(world.particles.velocity[p]).max() <= 1e-9
+
+
+@pytest.mark.parametrize("slope", [0.3, 0.5])
+def test_particle_on_a_particle_sticks_below_the_friction_angle_and_slides_above(slope):
+    # Gravity tilted by atan(slope) from the contact normal, μ = 0.4: below the
+    # friction angle (0.3) static friction holds the particle where it is (it moves
+    # less than 1e-9 m in 2 s); above it (0.5) it slides at g(sin θ − μ cos θ),
+    # within 1 % over 1 s (the slope of the big particle's top changes by 1e-3).
+    mu = 0.4
+    theta = np.arctan(slope)
+    g = (G * np.sin(theta), 0.0, -G * np.cos(theta))
+    world, p = ball_on_a_big_particle(mu, g)
+    world.step(240)
+    x = world.particles.position[p, 0]
+    if slope < mu:
+        assert abs(x) <= 1e-9
+    else:
+        a = G * (np.sin(theta) - mu * np.cos(theta))
+        assert abs(x - a / 2) <= 0.01 * a / 2
+
+
 def test_particles_collide_with_each_other_and_keep_their_momentum():
     # Two particles of radius 0.1 approach head-on; the contact keeps them 0.2 apart
     # (compliance 0: to round-off after the last pass) and, being a pair of equal

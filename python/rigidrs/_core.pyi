@@ -306,8 +306,9 @@ class Scene:
 
         ``position`` (3,) (m), ``velocity`` (3,) (m/s, default 0), ``mass`` (kg, default 1),
         ``radius`` (m, default 0: a point, which collides with rigid colliders but not with
-        other particles), ``friction`` against rigid colliders (default 0.5, combined with the
-        collider's by the geometric mean). ``fixed=True`` pins it (inverse mass 0)."""
+        other particles), ``friction`` μ, static and dynamic, against rigid colliders and other
+        particles (default 0.5, combined with the other side's by the geometric mean).
+        ``fixed=True`` pins it (inverse mass 0)."""
     def add_distance_constraint(
         self, p: int, q: int, *, compliance: float = 0.0, damping: float = 0.0, rest_length: float | None = None
     ) -> int:

@@ -13,9 +13,10 @@
 //!   through a thin shape. A triangle mesh, which has no inside, is a thin
 //!   two-sided shell whose outside is the side the particle comes from.
 //! - between particles with a radius: pairs within reach are found each substep
-//!   with a spatial hash; `C = |xᵢ − xⱼ| − (rᵢ + rⱼ) ≥ 0`, no friction. Pairs that
-//!   already overlap where the particles were added (neighbours in a cloth or a
-//!   soft body) never collide.
+//!   with a spatial hash; `C = |xᵢ − xⱼ| − (rᵢ + rⱼ) ≥ 0`, with the same
+//!   position-based friction on their relative slip, `μ = √(μᵢ μⱼ)` static and
+//!   dynamic. Pairs that already overlap where the particles were added
+//!   (neighbours in a cloth or a soft body) never collide.
 
 use nalgebra::Point3;
 use parry3d_f64::query::Ray;
@@ -235,6 +236,8 @@ pub struct ParticlePairs {
     max_radius: f64,
     hash: SpatialHash,
     pub pairs: Vec<(u32, u32)>,
+    /// Normal and friction multipliers of each pair over the substep (kg·m).
+    lambda: Vec<[f64; 2]>,
 }
 
 impl ParticlePairs {
@@ -279,21 +282,58 @@ impl ParticlePairs {
         }
     }
 
-    pub fn project(&self, p: &mut Particles) {
-        for &(i, j) in &self.pairs {
+    /// Zeroes the multipliers: each substep starts its own.
+    pub fn reset(&mut self) {
+        self.lambda.clear();
+        self.lambda.resize(self.pairs.len(), [0.0; 2]);
+    }
+
+    /// One pass over the pairs: normal, then friction.
+    pub fn project(&mut self, p: &mut Particles) {
+        for (&(i, j), lambda) in self.pairs.iter().zip(self.lambda.iter_mut()) {
             let (i, j) = (i as usize, j as usize);
             let (xi, xj) = (Vec3::from(p.position[i]), Vec3::from(p.position[j]));
             let d = xi - xj;
             let len = d.norm();
-            let c = len - (p.radius[i] + p.radius[j]);
-            if c >= 0.0 || !(len > 0.0) {
+            if !(len > 0.0) {
                 continue;
             }
             let (wi, wj) = (p.inv_mass[i], p.inv_mass[j]);
             let n = d / len;
-            let dl = -c / (wi + wj);
-            p.position[i] = (xi + n * (wi * dl)).into();
-            p.position[j] = (xj - n * (wj * dl)).into();
+            let c = len - (p.radius[i] + p.radius[j]);
+            if c < 0.0 {
+                let dl = -c / (wi + wj);
+                lambda[0] += dl;
+                p.position[i] = (xi + n * (wi * dl)).into();
+                p.position[j] = (xj - n * (wj * dl)).into();
+            }
+            let mu = (p.friction[i] * p.friction[j]).sqrt();
+            if lambda[0] > 0.0 && mu > 0.0 {
+                pair_friction(p, (i, j), &n, mu, lambda);
+            }
         }
     }
+}
+
+/// Removes the relative tangential slip of two touching particles over the
+/// substep while its multiplier stays within `μ λn`, and limits it to `μ λn`
+/// beyond (one coefficient, static and dynamic alike).
+fn pair_friction(p: &mut Particles, (i, j): (usize, usize), n: &Vec3, mu: f64, lambda: &mut [f64; 2]) {
+    let (xi, xj) = (Vec3::from(p.position[i]), Vec3::from(p.position[j]));
+    let slip = (xi - Vec3::from(p.prev[i])) - (xj - Vec3::from(p.prev[j]));
+    let tangential = slip - n * n.dot(&slip);
+    let t = tangential.norm();
+    if !(t > 1e-15) {
+        return;
+    }
+    let (wi, wj) = (p.inv_mass[i], p.inv_mass[j]);
+    let full = t / (wi + wj);
+    let dl = full.min((mu * lambda[0] - lambda[1]).max(0.0));
+    if dl == 0.0 {
+        return;
+    }
+    lambda[1] += dl;
+    let dir = tangential / t;
+    p.position[i] = (xi - dir * (wi * dl)).into();
+    p.position[j] = (xj + dir * (wj * dl)).into();
 }

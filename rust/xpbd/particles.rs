@@ -19,8 +19,9 @@ pub struct ParticleSpec {
     /// Collision radius (m), ≥ 0. Default 0: a point, which still collides with
     /// rigid colliders but not with other particles.
     pub radius: f64,
-    /// Friction coefficient against rigid colliders (–), ≥ 0; combined with the
-    /// collider's by the geometric mean, as between bodies. Default 0.5.
+    /// Friction coefficient (–), ≥ 0, static and dynamic, against rigid
+    /// colliders and other particles; combined with the other side's by the
+    /// geometric mean, as between bodies. Default 0.5.
     pub friction: f64,
     /// Pinned: inverse mass 0, never moved by the simulation. Default false.
     pub fixed: bool,
@@ -58,7 +59,7 @@ pub struct Particles {
     pub mass: Vec<f64>,
     /// Collision radius (m).
     pub radius: Vec<f64>,
-    /// Friction coefficient against rigid colliders (–).
+    /// Friction coefficient against rigid colliders and other particles (–).
     pub friction: Vec<f64>,
     /// Position at the start of the current substep (m): `v = (x − prev) / h`.
     pub prev: Vec<[f64; 3]>,

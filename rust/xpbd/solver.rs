@@ -97,6 +97,7 @@ impl Xpbd {
             self.colliders.detect(&self.particles, bodies);
         }
         self.pairs.detect(&self.particles);
+        self.pairs.reset();
         self.reset_multipliers();
         for _ in 0..self.iterations {
             self.pass(bodies, &k);

@@ -622,3 +622,44 @@ def test_bad_particle_input_raises_and_leaves_the_scene_unchanged():
         scene.add_mesh_volume_constraint([[a, b, c], [a, d, b], [a, c, d], [b, d, c]])
     assert scene.constraint_count == 0 and scene.particle_count == 4
     scene.build(dt=0.01).step()
+
+
+def test_particle_collision_filters_pass_what_they_exclude():
+    # As between bodies: a pair touches iff group_a & mask_b and group_b & mask_a.
+    # A particle of group 2 that does not collide with group 1 falls through the
+    # ground (group 1); its twin with the default filter rests on it. Two particles
+    # meeting head-on pass through each other when their filters exclude the pair.
+    scene = rr.Scene()
+    scene.add_body(rr.Plane(), fixed=True)
+    rests = scene.add_particle((0.0, 0.0, 0.5), radius=0.1)
+    falls = scene.add_particle((1.0, 0.0, 0.5), radius=0.1, collision_group=2, collision_mask=~1 & 0xFFFFFFFF)
+    a = scene.add_particle((-0.5, 5.0, 5.0), radius=0.1, velocity=(1.0, 0.0, 0.0), collision_group=4, collision_mask=4)
+    b = scene.add_particle((0.5, 5.0, 5.0), radius=0.1, velocity=(-1.0, 0.0, 0.0), collision_group=8, collision_mask=8)
+    world = scene.build(dt=1 / 60, substeps=4)
+    world.step(60)
+    x = world.particles.position
+    assert abs(x[rests, 2] - 0.1) <= 1e-9
+    assert x[falls, 2] < -3.0
+    # Each kept its velocity through the other: after 1 s they have swapped places.
+    np.testing.assert_allclose([x[a, 0], x[b, 0]], [0.5, -0.5], rtol=0, atol=1e-12)
+
+
+def test_particle_collision_filter_out_of_range_is_refused_naming_the_particle():
+    scene = rr.Scene()
+    scene.add_particle((0.0, 0.0, 0.0))
+    for kwargs in (dict(collision_group=-1), dict(collision_mask=2**32)):
+        with pytest.raises(ValueError, match=r"particle 1: collision_(group|mask)"):
+            scene.add_particle((0.0, 0.0, 1.0), **kwargs)
+    assert scene.particle_count == 1
+    with pytest.raises(ValueError, match=r"collision_mask"):
+        scene.add_rope((0, 0, 0), (0, 0, -1), 4, collision_mask=-5)
+    assert scene.particle_count == 1
+
+
+def test_cloth_excluded_from_the_ground_falls_through_it():
+    scene = rr.Scene()
+    scene.add_body(rr.Plane(), fixed=True)
+    cloth = scene.add_cloth((0, 0, 0.5), (1, 0, 0), (0, 1, 0), (5, 5), radius=0.01, collision_mask=0)
+    world = scene.build(dt=1 / 60, substeps=4)
+    world.step(60)
+    assert world.particles.position[cloth, 2].max() < -3.0

@@ -301,6 +301,8 @@ class Scene:
         velocity: ArrayLike | None = None,
         fixed: bool = False,
         friction: float = 0.5,
+        collision_group: int = 1,
+        collision_mask: int = 4294967295,
     ) -> int:
         """Adds a particle; returns its index in ``World.particles``.
 
@@ -308,7 +310,9 @@ class Scene:
         ``radius`` (m, default 0: a point, which collides with rigid colliders but not with
         other particles), ``friction`` μ, static and dynamic, against rigid colliders and other
         particles (default 0.5, combined with the other side's by the geometric mean).
-        ``fixed=True`` pins it (inverse mass 0)."""
+        ``fixed=True`` pins it (inverse mass 0). ``collision_group``/``collision_mask``: the
+        collision filter against rigid colliders and other particles, as in ``add_body``
+        (default group 1, every mask bit)."""
     def add_distance_constraint(
         self, p: int, q: int, *, compliance: float = 0.0, damping: float = 0.0, rest_length: float | None = None
     ) -> int:
@@ -378,10 +382,13 @@ class Scene:
         compliance: float = 0.0,
         damping: float = 0.0,
         pinned: Sequence[int] = ...,
+        collision_group: int = 1,
+        collision_mask: int = 4294967295,
     ) -> range:
         """A rope from ``start`` to ``end`` (m): ``segments + 1`` particles sharing ``mass`` (kg,
         total) joined by ``segments`` distance constraints (added in order). ``pinned``: local
-        indices (0 = start) of pinned particles. Returns the particles' index range."""
+        indices (0 = start) of pinned particles. ``collision_group``/``collision_mask``: every
+        particle's filter (see ``add_particle``). Returns the particles' index range."""
     def add_cloth(
         self,
         origin: ArrayLike,
@@ -396,11 +403,14 @@ class Scene:
         damping: float = 0.0,
         bending_compliance: float | None = None,
         pinned: Sequence[int] = ...,
+        collision_group: int = 1,
+        collision_mask: int = 4294967295,
     ) -> range:
         """A cloth of ``resolution = (nu, nv)`` particles at ``origin + i/(nu−1)·u + j/(nv−1)·v``
         (m), local index ``j·nu + i``, sharing ``mass`` (kg, total). Distance constraints on every
         triangle edge (compliance m/N), then dihedral bending on every interior edge if
-        ``bending_compliance`` (rad/(N·m)) is given. Returns the particles' index range."""
+        ``bending_compliance`` (rad/(N·m)) is given. ``collision_group``/``collision_mask``: every
+        particle's filter (see ``add_particle``). Returns the particles' index range."""
     def add_soft_box(
         self,
         center: ArrayLike,
@@ -413,10 +423,13 @@ class Scene:
         compliance: float = 0.0,
         damping: float = 0.0,
         volume_compliance: float | None = None,
+        collision_group: int = 1,
+        collision_mask: int = 4294967295,
     ) -> range:
         """An axis-aligned box (m) of ``cells`` cubes, each split into six tetrahedra: distance
         constraints on every tetrahedron edge, then a volume constraint per tetrahedron if
-        ``volume_compliance`` (m³/Pa) is given. Returns the particles' index range."""
+        ``volume_compliance`` (m³/Pa) is given. ``collision_group``/``collision_mask``: every
+        particle's filter (see ``add_particle``). Returns the particles' index range."""
     def add_shape_matched_body(
         self,
         source: Shape | ArrayLike,
@@ -435,12 +448,15 @@ class Scene:
         plastic_creep: float = 0.0,
         plastic_max: float = ...,
         cluster_size: float | None = None,
+        collision_group: int = 1,
+        collision_mask: int = 4294967295,
     ) -> tuple[range, list[int]]:
         """A shape-matched body: particles at the points (N, 3) of ``source``, or filling the shape
         ``source`` on a grid of ``spacing`` (m; a mesh adds its vertices), placed by ``position``
         and ``orientation`` (x, y, z, w). One cluster over all of them, or overlapping clusters of
         edge ``2·cluster_size`` (m) on a grid of that spacing. It collides through its particles.
-        Returns (particle range, cluster indices); cluster parameters as in ``add_shape_matching``."""
+        Returns (particle range, cluster indices); cluster parameters as in ``add_shape_matching``;
+        ``collision_group``/``collision_mask``: every particle's filter (see ``add_particle``)."""
 
 @final
 class Bodies:

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyRange};
 
 use super::convert::{rows3, vec3, vec4};
+use crate::collide::Filter;
 use super::errors::IntoPy;
 use super::scene::PyScene;
 use super::shapes::PyShape;
@@ -67,10 +68,20 @@ fn cluster_spec(
     })
 }
 
+/// A particle collision filter from Python ints, naming the particle(s).
+fn particle_filter(group: i64, mask: i64, whose: &str) -> PyResult<Filter> {
+    Ok(Filter {
+        group: super::scene::bits(group, &format!("{whose}: collision_group"))?,
+        mask: super::scene::bits(mask, &format!("{whose}: collision_mask"))?,
+    })
+}
+
 #[pymethods]
 impl PyScene {
     /// Adds a particle and returns its index. See the stub for the parameters.
-    #[pyo3(signature = (position, *, mass=1.0, radius=0.0, velocity=None, fixed=false, friction=0.5))]
+    #[pyo3(signature = (position, *, mass=1.0, radius=0.0, velocity=None, fixed=false, friction=0.5,
+                        collision_group=1, collision_mask=4294967295))]
+    #[allow(clippy::too_many_arguments)]
     fn add_particle(
         &mut self,
         position: &Bound<'_, PyAny>,
@@ -79,8 +90,11 @@ impl PyScene {
         velocity: Option<&Bound<'_, PyAny>>,
         fixed: bool,
         friction: f64,
+        collision_group: i64,
+        collision_mask: i64,
     ) -> PyResult<usize> {
         let n = self.inner.xpbd().particles.len();
+        let filter = particle_filter(collision_group, collision_mask, &format!("particle {n}"))?;
         let mut spec = ParticleSpec::at(vec3(position, &format!("particle {n}: position"))?);
         if let Some(v) = velocity {
             spec.velocity = vec3(v, &format!("particle {n}: velocity"))?;
@@ -89,6 +103,7 @@ impl PyScene {
         spec.radius = radius;
         spec.fixed = fixed;
         spec.friction = friction;
+        spec.filter = filter;
         self.inner.add_particle(&spec).py_err()
     }
 
@@ -183,7 +198,8 @@ impl PyScene {
     }
 
     /// A rope of `segments` distance constraints; returns its particles' range.
-    #[pyo3(signature = (start, end, segments, *, mass=1.0, radius=0.0, friction=0.5, compliance=0.0, damping=0.0, pinned=Vec::new()))]
+    #[pyo3(signature = (start, end, segments, *, mass=1.0, radius=0.0, friction=0.5, compliance=0.0, damping=0.0, pinned=Vec::new(),
+                        collision_group=1, collision_mask=4294967295))]
     #[allow(clippy::too_many_arguments)]
     fn add_rope<'py>(
         &mut self,
@@ -197,17 +213,20 @@ impl PyScene {
         compliance: f64,
         damping: f64,
         pinned: Vec<i64>,
+        collision_group: i64,
+        collision_mask: i64,
     ) -> PyResult<Bound<'py, PyRange>> {
         let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
-        let mat = Material { mass, radius, friction };
+        let filter = particle_filter(collision_group, collision_mask, "particles")?;
+        let mat = Material { mass, radius, friction, filter };
         let r = self.inner.add_rope(vec3(start, "start")?, vec3(end, "end")?, segments, &mat, k, &pinned).py_err()?;
         range(py, r)
     }
 
     /// A rectangular cloth of `resolution = (nu, nv)` particles; returns their range.
     #[pyo3(signature = (origin, u, v, resolution, *, mass=1.0, radius=0.0, friction=0.5, compliance=0.0, damping=0.0,
-                        bending_compliance=None, pinned=Vec::new()))]
+                        bending_compliance=None, pinned=Vec::new(), collision_group=1, collision_mask=4294967295))]
     #[allow(clippy::too_many_arguments)]
     fn add_cloth<'py>(
         &mut self,
@@ -223,11 +242,14 @@ impl PyScene {
         damping: f64,
         bending_compliance: Option<f64>,
         pinned: Vec<i64>,
+        collision_group: i64,
+        collision_mask: i64,
     ) -> PyResult<Bound<'py, PyRange>> {
         let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
         let kb = bending_compliance.map(|b| Compliance::new(b, 0.0)).transpose().py_err()?;
-        let mat = Material { mass, radius, friction };
+        let filter = particle_filter(collision_group, collision_mask, "particles")?;
+        let mat = Material { mass, radius, friction, filter };
         let (o, u, v) = (vec3(origin, "origin")?, vec3(u, "u")?, vec3(v, "v")?);
         let r = self.inner.add_cloth(o, u, v, [resolution.0, resolution.1], &mat, k, kb, &pinned).py_err()?;
         range(py, r)
@@ -235,7 +257,7 @@ impl PyScene {
 
     /// A soft box of tetrahedra; returns its particles' range.
     #[pyo3(signature = (center, half_extents, cells, *, mass=1.0, radius=0.0, friction=0.5, compliance=0.0, damping=0.0,
-                        volume_compliance=None))]
+                        volume_compliance=None, collision_group=1, collision_mask=4294967295))]
     #[allow(clippy::too_many_arguments)]
     fn add_soft_box<'py>(
         &mut self,
@@ -249,10 +271,13 @@ impl PyScene {
         compliance: f64,
         damping: f64,
         volume_compliance: Option<f64>,
+        collision_group: i64,
+        collision_mask: i64,
     ) -> PyResult<Bound<'py, PyRange>> {
         let k = Compliance::new(compliance, damping).py_err()?;
         let kv = volume_compliance.map(|b| Compliance::new(b, 0.0)).transpose().py_err()?;
-        let mat = Material { mass, radius, friction };
+        let filter = particle_filter(collision_group, collision_mask, "particles")?;
+        let mat = Material { mass, radius, friction, filter };
         let (c, h) = (vec3(center, "center")?, vec3(half_extents, "half_extents")?);
         let r = self.inner.add_soft_box(c, h, [cells.0, cells.1, cells.2], &mat, k, kv).py_err()?;
         range(py, r)
@@ -262,7 +287,8 @@ impl PyScene {
     /// cluster indices).
     #[pyo3(signature = (source, *, spacing=None, position=None, orientation=None, mass=1.0, radius=0.0, friction=0.5,
                         mode="linear", stiffness=1.0, beta=0.5, preserve_volume=true, plastic_yield=None,
-                        plastic_creep=0.0, plastic_max=f64::INFINITY, cluster_size=None))]
+                        plastic_creep=0.0, plastic_max=f64::INFINITY, cluster_size=None, collision_group=1,
+                        collision_mask=4294967295))]
     #[allow(clippy::too_many_arguments)]
     fn add_shape_matched_body<'py>(
         &mut self,
@@ -282,6 +308,8 @@ impl PyScene {
         plastic_creep: f64,
         plastic_max: f64,
         cluster_size: Option<f64>,
+        collision_group: i64,
+        collision_mask: i64,
     ) -> PyResult<(Bound<'py, PyRange>, Vec<usize>)> {
         let index = self.inner.xpbd().clusters.len();
         let spec = cluster_spec(mode, stiffness, beta, preserve_volume, plastic_yield, plastic_creep, plastic_max)
@@ -303,7 +331,8 @@ impl PyScene {
         let q = orientation.map(|q| vec4(q, "orientation")).transpose()?.unwrap_or([0.0, 0.0, 0.0, 1.0]);
         let iso = pose(p, q).py_err()?;
         let points: Vec<[f64; 3]> = local.iter().map(|x| (iso * nalgebra::Point3::from(Vec3::from(*x))).coords.into()).collect();
-        let mat = Material { mass, radius, friction };
+        let filter = particle_filter(collision_group, collision_mask, "particles")?;
+        let mat = Material { mass, radius, friction, filter };
         let (r, ids) = self.inner.add_shape_matched_body(&points, &mat, spec, cluster_size).py_err()?;
         Ok((range(py, r)?, ids))
     }

@@ -22,7 +22,7 @@ pub struct PyScene {
 }
 
 /// A 32-bit collision filter word.
-fn bits(x: i64, name: &str) -> PyResult<u32> {
+pub(crate) fn bits(x: i64, name: &str) -> PyResult<u32> {
     u32::try_from(x).map_err(|_| PyValueError::new_err(format!("{name} must be a 32-bit mask in [0, 2^32), got {x}")))
 }
 

@@ -23,8 +23,10 @@ pub struct Material {
     pub mass: f64,
     /// Radius of each particle (m) ≥ 0. Default 0.
     pub radius: f64,
-    /// Friction against rigid colliders (–). Default 0.5.
+    /// Friction against rigid colliders and other particles (–). Default 0.5.
     pub friction: f64,
+    /// Collision filter of every particle. Default: group 1, collides with all.
+    pub filter: crate::collide::Filter,
 }
 
 fn add_points(m: &mut XpbdModel, points: &[Vec3], mat: &Material, pinned: &[usize]) -> Result<Range<usize>> {
@@ -37,6 +39,7 @@ fn add_points(m: &mut XpbdModel, points: &[Vec3], mat: &Material, pinned: &[usiz
             mass: each,
             radius: mat.radius,
             friction: mat.friction,
+            filter: mat.filter,
             fixed: pinned.contains(&k),
             ..ParticleSpec::at((*p).into())
         };

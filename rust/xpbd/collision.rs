@@ -60,11 +60,13 @@ pub struct ColliderCollisions {
 const ON_SURFACE: f64 = 1e-12;
 
 impl ColliderCollisions {
-    /// The colliders particles may touch: those whose filter allows the
-    /// particles' (group 1, every mask bit).
-    pub fn new(colliders: Vec<Collider>, margin: f64) -> Self {
-        let particle = Filter::default();
-        let colliders: Vec<Collider> = colliders.into_iter().filter(|c| c.filter.allows(&particle)).collect();
+    /// The colliders particles may touch: those whose filter allows some
+    /// particle's.
+    pub fn new(colliders: Vec<Collider>, margin: f64, particles: &Particles) -> Self {
+        let mut filters: Vec<Filter> = particles.filter.clone();
+        filters.sort_unstable_by_key(|f| (f.group, f.mask));
+        filters.dedup();
+        let colliders: Vec<Collider> = colliders.into_iter().filter(|c| filters.iter().any(|f| c.filter.allows(f))).collect();
         Self { boxes: vec![None; colliders.len()], colliders, contacts: Vec::new(), margin }
     }
 
@@ -90,7 +92,7 @@ impl ColliderCollisions {
                 max: [0, 1, 2].map(|k| x[k].max(x0[k]) + reach),
             };
             for (k, c) in self.colliders.iter().enumerate() {
-                if self.boxes[k].is_some_and(|a| !a.overlaps(&near)) {
+                if self.boxes[k].is_some_and(|a| !a.overlaps(&near)) || !c.filter.allows(&p.filter[i]) {
                     continue;
                 }
                 if let Some(ct) = contact(c, b, p, i, reach) {
@@ -267,7 +269,7 @@ impl ParticlePairs {
             let (hash, pairs) = (&self.hash, &mut self.pairs);
             hash.for_neighbours(&p.position[iu], |j| {
                 let ju = j as usize;
-                if j <= i || p.inv_mass[iu] + p.inv_mass[ju] == 0.0 {
+                if j <= i || p.inv_mass[iu] + p.inv_mass[ju] == 0.0 || !p.filter[iu].allows(&p.filter[ju]) {
                     return;
                 }
                 let touch = p.radius[iu] + p.radius[ju];

@@ -4,6 +4,7 @@
 //! A pinned particle has inverse mass 0: constraints and collisions never move it
 //! (its position may still be written by the user between steps).
 
+use crate::collide::Filter;
 use crate::error::{finite3, non_negative, positive, Error, Result};
 
 /// What `Scene::add_particle` takes, each field with its unit and default.
@@ -25,11 +26,14 @@ pub struct ParticleSpec {
     pub friction: f64,
     /// Pinned: inverse mass 0, never moved by the simulation. Default false.
     pub fixed: bool,
+    /// Collision filter against rigid colliders and other particles, as between
+    /// bodies. Default: group 1, collides with all.
+    pub filter: Filter,
 }
 
 impl ParticleSpec {
     pub fn at(position: [f64; 3]) -> Self {
-        Self { position, velocity: [0.0; 3], mass: 1.0, radius: 0.0, friction: 0.5, fixed: false }
+        Self { position, velocity: [0.0; 3], mass: 1.0, radius: 0.0, friction: 0.5, fixed: false, filter: Filter::default() }
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -61,6 +65,8 @@ pub struct Particles {
     pub radius: Vec<f64>,
     /// Friction coefficient against rigid colliders and other particles (–).
     pub friction: Vec<f64>,
+    /// Collision filter.
+    pub filter: Vec<Filter>,
     /// Position at the start of the current substep (m): `v = (x − prev) / h`.
     pub prev: Vec<[f64; 3]>,
     /// Position when added to the scene (m): particles that overlap there never
@@ -85,6 +91,7 @@ impl Particles {
         self.mass.push(s.mass);
         self.radius.push(s.radius);
         self.friction.push(s.friction);
+        self.filter.push(s.filter);
         self.prev.push(s.position);
         self.initial.push(s.position);
     }
@@ -97,6 +104,7 @@ impl Particles {
         self.mass.truncate(n);
         self.radius.truncate(n);
         self.friction.truncate(n);
+        self.filter.truncate(n);
         self.prev.truncate(n);
         self.initial.truncate(n);
     }

@@ -52,7 +52,7 @@ impl Xpbd {
     pub fn new(m: &XpbdModel, gravity: Vec3, iterations: u32, colliders: Vec<Collider>, margin: f64) -> Result<Self> {
         Ok(Self {
             shape_matching: ShapeMatching::new(m.clusters.clone(), &m.particles)?,
-            colliders: ColliderCollisions::new(colliders, margin),
+            colliders: ColliderCollisions::new(colliders, margin, &m.particles),
             pairs: ParticlePairs::new(&m.particles),
             particles: m.particles.clone(),
             distance: m.distance.clone(),

@@ -103,6 +103,19 @@ pub struct NarrowPhase {
     spare: Vec<PairState>,
 }
 
+/// This step's prediction and manifolds of a pair: `None` if the balls around the
+/// two bodies that hold their shapes are further apart than the prediction (the
+/// pair is left as it was), else whether some point is within it.
+fn step_pair(state: &mut PairState, colliders: &[Collider], bodies: &Bodies, pred: &Prediction) -> Option<bool> {
+    let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
+    let prediction = prediction_of(c1, c2, bodies, pred);
+    if far_apart(c1, c2, bodies, prediction) {
+        return None;
+    }
+    state.prediction = prediction;
+    Some(update_pair(state, c1, c2, bodies))
+}
+
 /// How far ahead (m) contacts are predicted for a pair.
 pub struct Prediction {
     /// Always added (m).
@@ -129,20 +142,19 @@ impl NarrowPhase {
         // While the candidates are the pairs kept from the last step, in order (a
         // scene that moves in place), each is updated where it lies.
         let mut kept = 0;
-        for (&(i, j), state) in candidates.iter().zip(self.pairs.iter_mut()) {
-            if state.key != (i, j) {
+        for (&key, state) in candidates.iter().zip(self.pairs.iter_mut()) {
+            if state.key != key {
                 break;
             }
-            let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
-            let prediction = prediction_of(c1, c2, bodies, pred);
-            if far_apart(c1, c2, bodies, prediction) {
-                break;
+            match step_pair(state, colliders, bodies, pred) {
+                None => break,
+                Some(touching) => {
+                    if touching {
+                        self.touching.push(kept as u32);
+                    }
+                    kept += 1;
+                }
             }
-            state.prediction = prediction;
-            if update_pair(state, c1, c2, bodies) {
-                self.touching.push(kept as u32);
-            }
-            kept += 1;
         }
         if kept == candidates.len() && kept == self.pairs.len() {
             return;
@@ -160,17 +172,11 @@ impl NarrowPhase {
                     self.pairs.push(o);
                 }
             }
-            let (c1, c2) = (&colliders[i as usize], &colliders[j as usize]);
-            let prediction = prediction_of(c1, c2, bodies, pred);
-            // The balls around the two bodies that hold their shapes are further
-            // apart than the prediction: no contact, and no pair kept (a pair
-            // carries warm-start data only for points within its prediction).
-            if far_apart(c1, c2, bodies, prediction) {
-                continue;
-            }
             let mut state = state.unwrap_or_else(|| PairState { key: (i, j), ..Default::default() });
-            state.prediction = prediction;
-            if update_pair(&mut state, c1, c2, bodies) {
+            // A pair apart is not kept: it carries warm-start data only for points
+            // within its prediction.
+            let Some(touching) = step_pair(&mut state, colliders, bodies, pred) else { continue };
+            if touching {
                 self.touching.push(self.pairs.len() as u32);
             }
             self.pairs.push(state);

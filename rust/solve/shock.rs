@@ -33,7 +33,7 @@ impl ContactSolver {
         if gravity <= 0.0 {
             return;
         }
-        let heavier = |c: &Constraint| {
+        let held_side = |c: &Constraint| {
             let rising = c.normal.dot(up);
             if rising >= SUPPORT_COS && self.heavier(c.s1, c.s2) {
                 1
@@ -43,7 +43,7 @@ impl ContactSolver {
                 0
             }
         };
-        let sides: Vec<u8> = self.constraints.iter().map(heavier).collect();
+        let sides: Vec<u8> = self.constraints.iter().map(held_side).collect();
         if sides.iter().all(|&side| side == 0) {
             return;
         }

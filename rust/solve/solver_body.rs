@@ -101,22 +101,13 @@ impl Pair {
     /// contact is one way (its lower body held, see `super::shock`).
     #[inline(always)]
     pub fn apply_normal_one_way(&mut self, c: &Constraint, p: &Point, j: f64) {
-        if c.frozen == 0 {
-            self.apply_normal(c, p, j);
-        } else {
-            self.apply_normal_to_upper(c, p, j);
-        }
-    }
-
-    /// A normal impulse `j` on the upper body of a one-way contact only.
-    #[inline(always)]
-    pub fn apply_normal_to_upper(&mut self, c: &Constraint, p: &Point, j: f64) {
-        if c.frozen == 1 {
-            self.v2 += c.normal * (j * self.m2);
-            self.w2 += p.irn2 * j;
-        } else {
+        if c.frozen != 1 {
             self.v1 -= c.normal * (j * self.m1);
             self.w1 -= p.irn1 * j;
+        }
+        if c.frozen != 2 {
+            self.v2 += c.normal * (j * self.m2);
+            self.w2 += p.irn2 * j;
         }
     }
 
@@ -137,9 +128,9 @@ impl Pair {
     }
 
     /// A tangential impulse `d` (N·s, in the `t1, t2` basis) at a patch's centre.
+    /// A one-way contact's held lower body takes none of it (its patch's arms for
+    /// that body are zero, see [`Patch::set_geometry`]).
     #[inline(always)]
-    /// A one-way contact's held lower body takes none of it (its
-    /// patch's arms for that body are zero, see [`Patch::new`]).
     pub fn apply_patch(&mut self, c: &Constraint, f: &Patch, d: [f64; 2]) {
         let imp = c.t1 * d[0] + c.t2 * d[1];
         if c.frozen != 1 {

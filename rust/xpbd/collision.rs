@@ -203,6 +203,17 @@ fn project_contact(ct: &mut ColliderContact, p: &mut Particles, b: &mut Bodies, 
     }
 }
 
+/// The friction multiplier to add (kg·m) against a slip that `full` would remove
+/// whole: all of it while the total stays within the static cone `μs λn`, else up
+/// to the dynamic one `μk λn`.
+fn coulomb(full: f64, lambda_n: f64, lambda_t: f64, static_friction: f64, friction: f64) -> f64 {
+    if lambda_t + full <= static_friction * lambda_n {
+        full
+    } else {
+        (friction * lambda_n - lambda_t).clamp(0.0, full)
+    }
+}
+
 /// Removes the tangential slip of the particle relative to the body point over
 /// the substep, within the friction cone of the normal multiplier.
 fn friction(ct: &mut ColliderContact, p: &mut Particles, b: &mut Bodies, r: &Vec3, n: &Vec3, k: &Substep) {
@@ -217,11 +228,7 @@ fn friction(ct: &mut ColliderContact, p: &mut Particles, b: &mut Bodies, r: &Vec
     let dir = tangential / t;
     let wi = p.inv_mass[i];
     let full = t / (wi + body_point::inverse_mass(b, body, r, &dir));
-    let dl = if ct.lambda_t + full <= ct.static_friction * ct.lambda_n {
-        full
-    } else {
-        (ct.friction * ct.lambda_n - ct.lambda_t).clamp(0.0, full)
-    };
+    let dl = coulomb(full, ct.lambda_n, ct.lambda_t, ct.static_friction, ct.friction);
     if dl == 0.0 {
         return;
     }
@@ -329,8 +336,7 @@ fn pair_friction(p: &mut Particles, (i, j): (usize, usize), n: &Vec3, mu: f64, l
         return;
     }
     let (wi, wj) = (p.inv_mass[i], p.inv_mass[j]);
-    let full = t / (wi + wj);
-    let dl = full.min((mu * lambda[0] - lambda[1]).max(0.0));
+    let dl = coulomb(t / (wi + wj), lambda[0], lambda[1], mu, mu);
     if dl == 0.0 {
         return;
     }

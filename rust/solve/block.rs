@@ -95,6 +95,8 @@ pub enum Target {
     Friction(f64),
     /// This change, without bound (friction rows of the position pass).
     Free(f64),
+    /// Left alone this pass (a gap after the drift).
+    Skip,
 }
 
 impl Row {
@@ -246,6 +248,7 @@ impl ContactSolver {
             let v = row.velocity(&nu, &(lo.v, lo.w));
             r[i] = match targets[i] {
                 Target::AtLeast(t) | Target::Friction(t) | Target::Free(t) => t - v,
+                Target::Skip => 0.0,
             };
             lambda[i] = row.lambda(&self.points, &self.patches);
         }
@@ -271,12 +274,14 @@ impl ContactSolver {
     fn block_increment(&mut self, g: usize, targets: &[Target], r: &[f64], lambda: &[f64]) -> Vec<f64> {
         let b = self.support.blocks[g];
         let m = r.len();
-        let y = match &b.q {
-            Some(q) => min_norm(q, &self.support.rows[b.rows.0 as usize..b.rows.1 as usize], r),
-            None => solve_factored(&self.support.factor[b.k as usize..b.k as usize + m * m], r, m),
-        };
-        if self.fits(g, targets, lambda, &y) {
-            return y;
+        if !targets.iter().any(|t| matches!(t, Target::Skip)) {
+            let y = match &b.q {
+                Some(q) => min_norm(q, &self.support.rows[b.rows.0 as usize..b.rows.1 as usize], r),
+                None => solve_factored(&self.support.factor[b.k as usize..b.k as usize + m * m], r, m),
+            };
+            if self.fits(g, targets, lambda, &y) {
+                return y;
+            }
         }
         self.projected_gauss_seidel(g, targets, r, lambda)
     }
@@ -347,6 +352,11 @@ impl ContactSolver {
                     let res = r[i] - ky[i];
                     let kii = k[i * m + i];
                     match (rows[i].kind, targets[i]) {
+                        (_, Target::Skip) => {
+                            if let RowKind::Normal(_) = rows[i].kind {
+                                normal += lambda[i] + y[i];
+                            }
+                        }
                         (RowKind::Normal(_), Target::AtLeast(_)) => {
                             let l = lambda[i] + y[i];
                             let new = if kii > 0.0 { (l + res / kii).max(0.0) } else { l.max(0.0) };
@@ -362,7 +372,8 @@ impl ContactSolver {
                             let det = a * d - bb * bb;
                             let step = if det > 0.0 { [(d * res - bb * res2) / det, (a * res2 - bb * res) / det] } else { [0.0; 2] };
                             let cand = [l[0] + step[0], l[1] + step[1]];
-                            let new = cone(patch, c, cand, normal);
+                            // With a zero target, what is left to do is minus the slip.
+                            let new = cone(patch, c, cand, [-res, -res2], normal);
                             add(&mut y, &mut ky, i, new[0] - l[0]);
                             add(&mut y, &mut ky, i + 1, new[1] - l[1]);
                             i += 1;
@@ -394,7 +405,7 @@ impl ContactSolver {
     /// One position pass over block `g`: the upper body moved (not its velocity)
     /// so that its penetrating points come out by `rate` of their depth (at most
     /// `cap`) and its patches neither slide nor turn.
-    pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64) {
+    pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64) {
         let b = self.support.blocks[g];
         let (r0, m) = (b.rows.0 as usize, (b.rows.1 - b.rows.0) as usize);
         let mut targets = Vec::with_capacity(m);
@@ -404,7 +415,7 @@ impl ContactSolver {
             let t = match row.kind {
                 RowKind::Normal(pi) => {
                     let c = &self.constraints[row.face as usize];
-                    let s = super::solver_body::Gap::new(&self.bodies, c).separation(&self.points[pi as usize]);
+                    let s = super::solver_body::Gap::new(&self.bodies, c).separation(&self.points[pi as usize]) + rest;
                     if s < 0.0 {
                         Target::AtLeast((-rate * s).min(cap))
                     } else {
@@ -415,6 +426,7 @@ impl ContactSolver {
             };
             r.push(match t {
                 Target::AtLeast(v) | Target::Friction(v) | Target::Free(v) => v,
+                Target::Skip => 0.0,
             });
             targets.push(t);
         }
@@ -479,10 +491,11 @@ fn min_norm(q: &Matrix6<f64>, rows: &[Row], r: &[f64]) -> Vec<f64> {
     rows.iter().map(|row| (row.ju[0].dot(&xl) + row.ju[1].dot(&xa)) * inv_weight(row.kind)).collect()
 }
 
-/// A tangential impulse `cand` projected on the cone of normal impulse
-/// `normal`: kept if it sticks within the static cone, else scaled to the
-/// dynamic one along itself (the patch then slides).
-fn cone(f: &mut Patch, c: &Constraint, cand: [f64; 2], normal: f64) -> [f64; 2] {
+/// A tangential impulse `cand` (the one that stops the patch) on the cone of
+/// normal impulse `normal`: kept if it sticks within the static cone, else the
+/// dynamic one against the slip `slip` (Coulomb's law; along `cand` when the slip
+/// is too slow to have a direction), and the patch slides.
+fn cone(f: &mut Patch, c: &Constraint, cand: [f64; 2], slip: [f64; 2], normal: f64) -> [f64; 2] {
     let len = (cand[0] * cand[0] + cand[1] * cand[1]).sqrt();
     let hold = if f.sliding { c.friction } else { c.static_friction } * normal.max(f.settled);
     if len <= hold {
@@ -490,11 +503,13 @@ fn cone(f: &mut Patch, c: &Constraint, cand: [f64; 2], normal: f64) -> [f64; 2] 
         return cand;
     }
     f.sliding = true;
-    if len == 0.0 {
-        return cand;
+    let speed = (slip[0] * slip[0] + slip[1] * slip[1]).sqrt();
+    let (dir, n) = if speed > super::friction::SLIP_EPS { ([-slip[0], -slip[1]], speed) } else { (cand, len) };
+    if n == 0.0 {
+        return [0.0; 2];
     }
-    let s = c.friction * normal / len;
-    [cand[0] * s, cand[1] * s]
+    let s = c.friction * normal / n;
+    [dir[0] * s, dir[1] * s]
 }
 
 /// `K = L D Lᵀ` of a symmetric positive semi-definite `m × m` matrix: `L` below

@@ -17,7 +17,7 @@ use crate::math::Vec3;
 
 /// Slip speed (m/s) below which a sliding patch's friction keeps the direction of
 /// the impulse that would stop it: the direction of a slower slip is noise.
-const SLIP_EPS: f64 = 1e-3;
+pub(crate) const SLIP_EPS: f64 = 1e-3;
 
 /// The friction of one manifold.
 #[derive(Clone, Copy, Debug, Default)]

@@ -18,6 +18,7 @@
 //! unconverged sweep from overshooting.
 
 use super::contact::{Constraint, ContactSolver, Point};
+use super::soft::Softness;
 use super::solver_body::{Gap, Pair, SolverBody};
 
 /// Sweeps over the points of a manifold that has no warm start.
@@ -26,13 +27,32 @@ const FRESH_SWEEPS: u32 = 4;
 /// How one pass turns a point's separation and normal velocity into an impulse.
 #[derive(Clone, Copy)]
 pub(crate) struct Rule {
+    soft: Softness,
+    max_push: f64,
     inv_h: f64,
+    /// Depth at which a resting contact settles (m): see [`REST_DEPTH`].
+    rest: f64,
     pub(crate) relax: bool,
 }
 
+/// Fraction of the slop a resting contact settles into (0.1 mm at the default
+/// 5 mm). Contacts are solved for this small overlap rather than for exact
+/// touching: at a distance of exactly zero, parry's contact generation is
+/// degenerate (a resting triangle mesh has been seen to report a sideways normal
+/// 3.5 m deep), and a contact at zero would flicker between touching and apart.
+pub(crate) const REST_DEPTH: f64 = 0.02;
+
 impl Rule {
-    /// The velocity bias of a point at separation `s` (m/s): a gap may close
-    /// within the substep, a penetration is the position pass's business.
+    /// The separation the solver works with: the geometric one plus the rest
+    /// depth (m).
+    #[inline(always)]
+    pub(crate) fn effective(&self, s: f64) -> f64 {
+        s + self.rest
+    }
+
+    /// The velocity bias of a point at separation `s` (m/s) for the support
+    /// blocks: a gap may close within the substep; a penetration is the position
+    /// pass's business.
     #[inline(always)]
     pub(crate) fn bias(&self, s: f64) -> f64 {
         if s > 0.0 {
@@ -42,26 +62,38 @@ impl Rule {
         }
     }
 
-    /// Impulse increment of a point solved both ways.
+    /// Impulse increment of a point solved both ways: rigid, a penetration pushed
+    /// out at the soft contact's rate (at most `max_push_velocity`) in the first
+    /// pass and the push-out taken back by the relax pass.
     #[inline(always)]
     fn both_ways(&self, s: f64, vn: f64, p: &Point) -> f64 {
-        -p.normal_mass * (vn + self.bias(s))
+        let bias = if s > 0.0 {
+            s * self.inv_h
+        } else if !self.relax {
+            self.soft.mass_scale * (self.soft.bias_rate * s).max(-self.max_push)
+        } else {
+            0.0
+        };
+        -p.normal_mass * (vn + bias)
     }
 }
 
 impl ContactSolver {
-    /// One pass over the contacts solved both ways, then the support sweeps.
+    /// The support sweeps (normals and friction), then one pass over the
+    /// normals of the contacts solved both ways: what a wall or a paddle does
+    /// to a body is then exact at the end of the pass.
     pub fn solve_normal(&mut self, relax: bool) {
         let rule = self.rule(relax);
+        self.sweep_supports(&rule);
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         for &ci in &self.ordinary {
             solve(&cs[ci as usize], points, bodies, &rule);
         }
-        self.sweep_supports(&rule);
     }
 
     pub(crate) fn rule(&self, relax: bool) -> Rule {
-        Rule { inv_h: self.inv_h, relax }
+        let rest = REST_DEPTH * self.settings.slop;
+        Rule { soft: self.softness, max_push: self.settings.max_push_velocity, inv_h: self.inv_h, rest, relax }
     }
 }
 
@@ -77,7 +109,7 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
     let range = c.start as usize..(c.start + c.len) as usize;
     for _ in 0..sweeps {
         for p in &mut points[range.clone()] {
-            let s = gap.separation(p);
+            let s = rule.effective(gap.separation(p));
             if rule.relax && s > 0.0 && std::env::var_os("NOSKIP").is_none() {
                 // After the drift a gap is the next substep's business: closing it
                 // here would brake a body that has not arrived yet.

@@ -1,35 +1,33 @@
-//! Position correction, split from the velocities: after the drift, penetration
-//! is removed by moving the bodies along the contact normals (non-linear
-//! Gauss–Seidel on the current separations, as in Box2D v2's position solver),
-//! without touching their velocities. Correcting it through a velocity bias
-//! instead (Baumgarte, or a soft contact's push-out) leaves the push-out speed to
-//! be taken back by another pass; where that pass does not converge (a tall
-//! column) the difference bounces the bodies, and a soft contact that leaks its
-//! load to stay stable sags by it.
+//! Position correction of the support blocks, split from the velocities: after
+//! the drift, penetration is removed by moving the bodies (non-linear, on the
+//! current separations, as Box2D v2's position solver), without touching their
+//! velocities. Correcting it through a velocity bias instead (Baumgarte, or a
+//! soft contact's push-out) leaves the push-out speed to be taken back by another
+//! pass; where that pass does not converge (a tall column) the difference
+//! bounces the bodies, and a soft contact that leaks its load to stay stable
+//! sags by it.
 //!
-//! Each pass moves a penetrating point out by `position_rate` of its depth (at
-//! most `max_push_velocity · h`). Support blocks (see `super::support`) are
-//! corrected bottom up, each body on its held supports and without sliding on
-//! them: a column is set straight in one pass, from the ground up, whatever its
-//! masses; other contacts move both bodies by their inverse masses.
+//! Each pass moves a point out by `position_rate` of its depth beyond the rest
+//! depth (see `super::impulse::REST_DEPTH`; at
+//! most `max_push_velocity · h`), block by block bottom up, each body on its held
+//! supports and without sliding or turning on them: a column is set straight in
+//! one pass, from the ground up, whatever its masses. (Contacts solved both ways
+//! push out through the velocities, whose impulses come in equal and opposite
+//! pairs, so that a collision in free space keeps its angular momentum.)
 
-use super::contact::{Constraint, ContactSolver, Point};
-use super::solver_body::{Gap, SolverBody};
+use super::contact::ContactSolver;
 use crate::body::Bodies;
-use crate::math::{quat, Vec3};
+use crate::math::quat;
 
 impl ContactSolver {
-    /// One position pass: the contacts solved both ways by Gauss–Seidel, then
-    /// the support blocks bottom up, each body moved on its held supports.
+    /// One position pass over the support blocks, bottom up, each body moved on
+    /// its held supports.
     pub fn correct_positions(&mut self, h: f64) {
         let rate = self.position_rate(h);
         let cap = self.settings.max_push_velocity * h;
-        let (cs, points, bodies) = (&self.constraints, &self.points, &mut self.bodies);
-        for &ci in &self.ordinary {
-            push(&cs[ci as usize], points, bodies, rate, cap);
-        }
+        let rest = super::impulse::REST_DEPTH * self.settings.slop;
         for g in 0..self.support.blocks.len() {
-            self.push_block(g, rate, cap);
+            self.push_block(g, rate, cap, rest);
         }
     }
 
@@ -55,29 +53,4 @@ impl ContactSolver {
             b.orientation[i] = quat::to_xyzw(&quat::normalize(&(s.dq * self.q0[k])));
         }
     }
-}
-
-/// One position pass over the points of `c`, moving both bodies.
-fn push(c: &Constraint, points: &[Point], bodies: &mut [SolverBody], rate: f64, cap: f64) {
-    for p in &points[c.start as usize..(c.start + c.len) as usize] {
-        let s = Gap::new(bodies, c).separation(p);
-        if s >= 0.0 {
-            continue;
-        }
-        let lambda = -(rate * s).max(-cap) * p.normal_mass;
-        shift(&mut bodies[c.s1 as usize], &(-c.normal * lambda), &(-p.irn1 * lambda));
-        shift(&mut bodies[c.s2 as usize], &(c.normal * lambda), &(p.irn2 * lambda));
-    }
-}
-
-/// Moves a solver body by a position impulse: `dx = Δ/m`, `dθ = I⁻¹ (r × Δ)`
-/// (given pre-multiplied as `turn`).
-#[inline(always)]
-fn shift(s: &mut SolverBody, impulse: &Vec3, turn: &Vec3) {
-    if !s.dynamic {
-        return;
-    }
-    s.dp += impulse * s.inv_m;
-    s.dq = quat::exp(turn) * s.dq;
-    s.pushed = true;
 }

@@ -22,14 +22,13 @@
 //!
 //! After the two sweeps every body of a column is at rest on the one below and
 //! each contact carries the weight above it, whatever the masses: a direct solve
-//! of a tree. Where a lower body is not held as assumed (it tips, slides, rests
-//! on something that gives), the sweeps overshoot; so the pass then takes the
-//! step along their change that minimises the contact problem's energy (the
-//! dual objective `½ λᵀKλ + λᵀb`, quadratic along the line): the full step for a
-//! column, a shorter one otherwise. Every pass is a descent, as a Gauss–Seidel
-//! pass is, and any fixed point is the solution of the contact problem itself.
+//! of a tree, and of a pyramid, whose blocks are visited a level at a time. Where
+//! a lower body is not held as assumed (it tips, slides, rests on something that
+//! gives), the next pass continues from there: the impulses act on both bodies,
+//! so any fixed point of the passes is the solution of the contact problem
+//! itself.
 //! Balls side by side, walls and contacts without gravity are solved both ways
-//! by Gauss–Seidel as before.
+//! by Gauss–Seidel.
 
 use super::block::{Block, Row, RowKind, Target};
 use super::contact::ContactSolver;
@@ -178,26 +177,28 @@ impl ContactSolver {
         level
     }
 
-    /// The two sweeps over the blocks, then the step along them that minimises
-    /// the contact problem's energy.
+    /// The two sweeps over the blocks, then the fraction of their change that
+    /// leaves the least violation (see [`Self::sweep_step`]).
     pub(crate) fn sweep_supports(&mut self, rule: &Rule) {
         if self.support.blocks.is_empty() {
             return;
         }
         self.assemble_blocks(false);
         let s = &mut self.support;
+        s.debt.clear();
+        s.debt.resize(s.rows.len(), 0.0);
         s.start_velocity.clear();
         s.start_velocity.extend(self.bodies.iter().map(|b| (b.v, b.w)));
         s.start_lambda.clear();
         for r in &s.rows {
             s.start_lambda.push(r.lambda(&self.points, &self.patches));
         }
-        s.debt.clear();
-        s.debt.resize(s.rows.len(), 0.0);
         let n = self.support.blocks.len();
+        let mut targets = Vec::with_capacity(self.support.rows.len());
         for k in 0..n {
-            let targets = self.velocity_targets(k, rule);
-            self.solve_block(k, &targets);
+            let t = self.velocity_targets(k, rule);
+            self.solve_block(k, &t);
+            targets.extend(t);
         }
         // Top down a level at a time: every block of a level is solved on its
         // supports as the bottom-up sweep left them, then their debts are paid (a
@@ -219,9 +220,56 @@ impl ContactSolver {
             }
             end = start;
         }
-        let step = self.sweep_step(rule);
+        let step = self.sweep_step(&targets);
         if step < 1.0 {
             self.shorten_sweep(step);
+        }
+    }
+
+    /// The fraction of the sweeps' change to keep: the one that leaves the least
+    /// violation `Σ (row velocity − target)²` over the rows that hold (pushing
+    /// points, sticking patches), quadratic in the fraction. It is 1 where the
+    /// sweeps solved the blocks exactly (a column, a pyramid at rest); less where
+    /// a lower body was not held as the sweeps assumed and they overshot, which
+    /// would otherwise feed on itself from pass to pass.
+    fn sweep_step(&self, targets: &[Target]) -> f64 {
+        let s = &self.support;
+        let (mut along, mut square) = (0.0, 0.0);
+        for (ri, r) in s.rows.iter().enumerate() {
+            let target = match targets[ri] {
+                Target::AtLeast(t) | Target::Friction(t) | Target::Free(t) => t,
+                Target::Skip => continue,
+            };
+            let upper = s.blocks[r.block as usize].body as usize;
+            let v0 = r.velocity(&s.start_velocity[upper], &s.start_velocity[r.lower as usize]) - target;
+            let (bu, bl) = (&self.bodies[upper], &self.bodies[r.lower as usize]);
+            let v1 = r.velocity(&(bu.v, bu.w), &(bl.v, bl.w)) - target;
+            let holds = match r.kind {
+                RowKind::Normal(_) => r.lambda(&self.points, &self.patches) > 0.0 || v0 < 0.0 || v1 < 0.0,
+                _ => !self.patches[r.face as usize].sliding,
+            };
+            if holds {
+                along += v0 * (v1 - v0);
+                square += (v1 - v0) * (v1 - v0);
+            }
+        }
+        if square <= 0.0 {
+            return 1.0;
+        }
+        (-along / square).clamp(0.0, 1.0)
+    }
+
+    /// Keeps `step` of the sweeps' change in impulses and velocities.
+    fn shorten_sweep(&mut self, step: f64) {
+        let s = &self.support;
+        for (b, &(v, w)) in self.bodies.iter_mut().zip(&s.start_velocity) {
+            b.v = v + (b.v - v) * step;
+            b.w = w + (b.w - w) * step;
+        }
+        for (ri, r) in s.rows.iter().enumerate() {
+            let l0 = s.start_lambda[ri];
+            let l = r.lambda(&self.points, &self.patches);
+            r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
         }
     }
 
@@ -234,8 +282,14 @@ impl ContactSolver {
             .map(|r| match r.kind {
                 RowKind::Normal(pi) => {
                     let c = &self.constraints[r.face as usize];
-                    let s = Gap::new(&self.bodies, c).separation(&self.points[pi as usize]);
-                    Target::AtLeast(-rule.bias(s))
+                    let s = rule.effective(Gap::new(&self.bodies, c).separation(&self.points[pi as usize]));
+                    if rule.relax && s > 0.0 {
+                        // After the drift a gap is the next substep's business:
+                        // closing it here would brake a body that has not arrived.
+                        Target::Skip
+                    } else {
+                        Target::AtLeast(-rule.bias(s))
+                    }
                 }
                 _ => Target::Friction(0.0),
             })
@@ -256,51 +310,6 @@ impl ContactSolver {
                 lo.v += r.jl[0] * (d * lo.inv_m);
                 lo.w += lo.inv_i * (r.jl[1] * d);
             }
-        }
-    }
-
-    /// The step along the sweeps' change `d` that minimises the energy:
-    /// `−dᵀ(Kλ₀ + b) / dᵀKd`, in [0, 1]; `Kλ + b` are the rows' velocities
-    /// minus their targets, before and after.
-    fn sweep_step(&self, rule: &Rule) -> f64 {
-        let s = &self.support;
-        let (mut slope, mut curvature) = (0.0, 0.0);
-        for (ri, r) in s.rows.iter().enumerate() {
-            let d = r.lambda(&self.points, &self.patches) - s.start_lambda[ri];
-            if d == 0.0 {
-                continue;
-            }
-            let upper = s.blocks[r.block as usize].body as usize;
-            let v0 = r.velocity(&s.start_velocity[upper], &s.start_velocity[r.lower as usize]);
-            let (bu, bl) = (&self.bodies[upper], &self.bodies[r.lower as usize]);
-            let v1 = r.velocity(&(bu.v, bu.w), &(bl.v, bl.w));
-            let bias = match r.kind {
-                RowKind::Normal(pi) => {
-                    let c = &self.constraints[r.face as usize];
-                    rule.bias(Gap::new(&self.bodies, c).separation(&self.points[pi as usize]))
-                }
-                _ => 0.0,
-            };
-            slope += d * (v0 + bias);
-            curvature += d * (v1 - v0);
-        }
-        if curvature <= 0.0 {
-            return 1.0;
-        }
-        (-slope / curvature).clamp(0.0, 1.0)
-    }
-
-    /// Takes `step` of the sweeps' change in impulses and velocities.
-    fn shorten_sweep(&mut self, step: f64) {
-        let s = &self.support;
-        for (b, &(v, w)) in self.bodies.iter_mut().zip(&s.start_velocity) {
-            b.v = v + (b.v - v) * step;
-            b.w = w + (b.w - w) * step;
-        }
-        for (ri, r) in s.rows.iter().enumerate() {
-            let l0 = s.start_lambda[ri];
-            let l = r.lambda(&self.points, &self.patches);
-            r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
         }
     }
 }

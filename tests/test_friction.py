@@ -270,16 +270,17 @@ def test_sphere_launched_sliding_starts_rolling_at_t_star(mu, v0):
     k = int(np.argmax(slip <= 1e-6 * v0))
     assert t_star <= h["t"][k] <= t_star + DT
     # Rolling on a rigid contact: no sag, the ball settles at the rest depth
-    # δ = 0.02 × slop (0.1 mm) whatever its load, and its contact point, δ/2 inside
+    # δ = 2e-4 × slop (1 µm, rigidrs/solve/impulse.rs REST_DEPTH) whatever its load,
+    # and its contact point, δ/2 inside
     # each surface, is at rest: v = ω (r − δ/2), so v − ω r = −ω δ/2 (to 1e-12 v0).
     depth = world.contacts()["depth"].max()
-    delta = 0.02 * 0.005
+    delta = 2e-4 * 0.005
     assert abs(depth - delta) <= 1e-12
     after = h["t"] > t_star + DT
     np.testing.assert_allclose(slip[after], -h["w"][after, 1] * delta / 2, rtol=0, atol=1e-12 * v0)
     # The lever arm r' = r − δ/2 about the contact point keeps the angular momentum
     # m v0 r' = m v r' + (2/5) m r² v / r', so v* = v0 r'² / (r'² + 2 r² / 5) (5 v0 / 7
-    # for δ = 0; 3e-4 lower here). Measured within 4e-6 of it: the slip ends inside a
+    # for δ = 0; 3e-6 lower here). Measured within 4e-6 of it: the slip ends inside a
     # substep, whose velocity-level step is first order.
     arm = r - delta / 2
     assert abs(h["v"][-1, 0] - v0 * arm**2 / (arm**2 + 0.4 * r**2)) <= 1e-5 * v_star

@@ -403,8 +403,8 @@ impl ContactSolver {
     }
 
     /// One position pass over block `g`: the upper body moved (not its velocity)
-    /// so that its penetrating points come out by `rate` of their depth (at most
-    /// `cap`) and its patches neither slide nor turn.
+    /// so that its points deeper than the rest depth `rest` come out by `rate` of
+    /// the excess (at most `cap` a pass), and its patches neither slide nor turn.
     pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64) {
         let b = self.support.blocks[g];
         let (r0, m) = (b.rows.0 as usize, (b.rows.1 - b.rows.0) as usize);
@@ -415,7 +415,8 @@ impl ContactSolver {
             let t = match row.kind {
                 RowKind::Normal(pi) => {
                     let c = &self.constraints[row.face as usize];
-                    let s = super::solver_body::Gap::new(&self.bodies, c).separation(&self.points[pi as usize]) + rest;
+                    let s = super::solver_body::Gap::new(&self.bodies, c).separation(&self.points[pi as usize]);
+                    let s = s + rest;
                     if s < 0.0 {
                         Target::AtLeast((-rate * s).min(cap))
                     } else {

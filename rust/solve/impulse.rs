@@ -35,12 +35,15 @@ pub(crate) struct Rule {
     pub(crate) relax: bool,
 }
 
-/// Fraction of the slop a resting contact settles into (0.1 mm at the default
+/// Fraction of the slop a resting contact settles into (1 µm at the default
 /// 5 mm). Contacts are solved for this small overlap rather than for exact
 /// touching: at a distance of exactly zero, parry's contact generation is
 /// degenerate (a resting triangle mesh has been seen to report a sideways normal
 /// 3.5 m deep), and a contact at zero would flicker between touching and apart.
-pub(crate) const REST_DEPTH: f64 = 0.02;
+/// Small, so that a body set down touching settles into it in the first substep
+/// without a measurable jolt (0.02 of the slop, 0.1 mm, cost a box set down 15 %
+/// of its weight in extra friction over its first steps).
+pub(crate) const REST_DEPTH: f64 = 2e-4;
 
 impl Rule {
     /// The separation the solver works with: the geometric one plus the rest
@@ -81,10 +84,14 @@ impl Rule {
 impl ContactSolver {
     /// The support sweeps (normals and friction), then one pass over the
     /// normals of the contacts solved both ways: what a wall or a paddle does
-    /// to a body is then exact at the end of the pass.
+    /// to a body is then exact at the end of the pass. The relax pass (after the
+    /// drift) is for the contacts solved both ways, to take back their push-out:
+    /// the blocks, solved exactly and pushed out by the position pass, have none.
     pub fn solve_normal(&mut self, relax: bool) {
         let rule = self.rule(relax);
-        self.sweep_supports(&rule);
+        if !relax {
+            self.sweep_supports(&rule);
+        }
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         for &ci in &self.ordinary {
             solve(&cs[ci as usize], points, bodies, &rule);
@@ -110,7 +117,7 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
     for _ in 0..sweeps {
         for p in &mut points[range.clone()] {
             let s = rule.effective(gap.separation(p));
-            if rule.relax && s > 0.0 && std::env::var_os("NOSKIP").is_none() {
+            if rule.relax && s > 0.0 {
                 // After the drift a gap is the next substep's business: closing it
                 // here would brake a body that has not arrived yet.
                 continue;

@@ -6,15 +6,17 @@
 //! of a box are coupled through its rotation, and a friction impulse at the face
 //! tilts it. Under a heavy load, what such a pass leaves over is passed down to
 //! the bodies below as a rocking that grows down a column. So the block is solved
-//! exactly: `K Δλ = r` with `K = J M⁻¹ Jᵀ` (factored once and kept while the
-//! block's bodies have not moved; dependent rows, such as a fourth corner of a
-//! flat face, are dropped by the factorisation), and the answer kept if every
-//! point pushes and every friction impulse fits its cone. A body that tips or
-//! slides on its supports is solved instead by projected Gauss–Seidel on `K`, in
+//! exactly, `K Δλ = r` with `K = J M⁻¹ Jᵀ`, and the answer kept if every point
+//! pushes and every friction impulse fits its cone. Where the rows hold all six
+//! velocities of the body (a face, or faces), the answer is the least-norm one
+//! through a 6 × 6 operator ([`min_norm`]), kept while the block's bodies have
+//! not moved; otherwise `K` is factored (dependent rows dropped). A body that
+//! tips or slides on its supports is solved by projected Gauss–Seidel on `K`, in
 //! impulse space.
 
-use super::contact::{Constraint, ContactSolver};
+use super::contact::{Constraint, ContactSolver, Point};
 use super::friction::Patch;
+use super::solver_body::SolverBody;
 use crate::math::Vec3;
 use nalgebra::{Matrix6, Vector6};
 
@@ -22,25 +24,15 @@ use nalgebra::{Matrix6, Vector6};
 /// does not fit the contact conditions (a body tipping or sliding).
 const PGS_SWEEPS: usize = 12;
 
+/// A pivot below this fraction of the largest diagonal of `K` marks a row that
+/// depends on the ones before it.
+const PIVOT_TOLERANCE: f64 = 1e-10;
+
 /// Weight of a friction or twist row against a normal one in the least-norm
 /// solve: of the impulses that give the same motion, the one that rests a body
 /// on the normals of its points (statics) and asks friction only for what they
 /// cannot give (a sideways force, a turn about the normal).
 const FRICTION_WEIGHT: f64 = 1e3;
-
-/// Inverse weight of a row in the least-norm solve.
-#[inline(always)]
-fn inv_weight(kind: RowKind) -> f64 {
-    if let RowKind::Normal(_) = kind {
-        1.0
-    } else {
-        1.0 / FRICTION_WEIGHT
-    }
-}
-
-/// A pivot below this fraction of the largest diagonal of `K` marks a row that
-/// depends on the ones before it.
-const PIVOT_TOLERANCE: f64 = 1e-10;
 
 /// One body on its supports.
 #[derive(Clone, Copy, Debug, Default)]
@@ -53,11 +45,12 @@ pub struct Block {
     pub faces: (u32, u32),
     pub rows: (u32, u32),
     pub k: u32,
-    /// `J`, `K` and the factor need recomputing (a body of the block moved).
+    /// `J` and `Q` need recomputing (a body of the block moved).
     pub dirty: bool,
-    /// `Q = P⁻¹ M P⁻¹` with `P = JᵀJ`, when the rows hold all six of the upper
-    /// body's velocities (`P` invertible): the least-norm solve (see
-    /// [`min_norm`]).
+    /// `K` and its factor are those of the current `J`.
+    pub k_ready: bool,
+    /// `Q = P⁻¹ M P⁻¹` with `P = Jᵀ W⁻¹ J`, when the rows hold all six of the
+    /// upper body's velocities (`P` invertible): see [`min_norm`].
     pub q: Option<Matrix6<f64>>,
 }
 
@@ -87,7 +80,7 @@ pub struct Row {
 }
 
 /// What a solve asks of a row.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Target {
     /// A normal: velocity (or position change) at least this, pushing only.
     AtLeast(f64),
@@ -99,6 +92,17 @@ pub enum Target {
     Skip,
 }
 
+impl Target {
+    /// The value asked for (0 for a row left alone).
+    #[inline(always)]
+    pub fn value(self) -> f64 {
+        match self {
+            Target::AtLeast(t) | Target::Friction(t) | Target::Free(t) => t,
+            Target::Skip => 0.0,
+        }
+    }
+}
+
 impl Row {
     /// The row's velocity for the given (v, ω) of its upper and lower bodies.
     #[inline(always)]
@@ -108,7 +112,7 @@ impl Row {
 
     /// The accumulated impulse of the row.
     #[inline(always)]
-    pub fn lambda(&self, points: &[super::contact::Point], patches: &[Patch]) -> f64 {
+    pub fn lambda(&self, points: &[Point], patches: &[Patch]) -> f64 {
         match self.kind {
             RowKind::Normal(pi) => points[pi as usize].normal_impulse,
             RowKind::Tangent(a) => patches[self.face as usize].impulse[a as usize],
@@ -117,12 +121,27 @@ impl Row {
     }
 
     #[inline(always)]
-    pub fn set_lambda(&self, points: &mut [super::contact::Point], patches: &mut [Patch], l: f64) {
+    pub fn set_lambda(&self, points: &mut [Point], patches: &mut [Patch], l: f64) {
         match self.kind {
             RowKind::Normal(pi) => points[pi as usize].normal_impulse = l,
             RowKind::Tangent(a) => patches[self.face as usize].impulse[a as usize] = l,
             RowKind::Twist => patches[self.face as usize].twist = l,
         }
+    }
+
+    /// Inverse weight of the row in the least-norm solve.
+    #[inline(always)]
+    fn inv_weight(&self) -> f64 {
+        if let RowKind::Normal(_) = self.kind {
+            1.0
+        } else {
+            1.0 / FRICTION_WEIGHT
+        }
+    }
+
+    #[inline(always)]
+    fn ju6(&self) -> Vector6<f64> {
+        Vector6::new(self.ju[0].x, self.ju[0].y, self.ju[0].z, self.ju[1].x, self.ju[1].y, self.ju[1].z)
     }
 }
 
@@ -138,9 +157,28 @@ impl Constraint {
     }
 }
 
+/// Scratch space of one block solve (taken out of `Support` while it runs).
+#[derive(Default)]
+pub struct Scratch {
+    pub r: Vec<f64>,
+    pub lambda: Vec<f64>,
+    pub y: Vec<f64>,
+    ky: Vec<f64>,
+}
+
+impl Scratch {
+    /// `m` entries in each (their values are overwritten by each solve).
+    fn reset(&mut self, m: usize) {
+        for v in [&mut self.r, &mut self.lambda, &mut self.y, &mut self.ky] {
+            v.truncate(m);
+            v.resize(m, 0.0);
+        }
+    }
+}
+
 impl ContactSolver {
     /// Builds the rows of every block (`all`, after planning) or recomputes
-    /// `J`, `K` and the factor of the blocks whose bodies moved.
+    /// `J` and `Q` of the blocks whose bodies moved.
     pub(crate) fn assemble_blocks(&mut self, all: bool) {
         if all {
             self.lay_out_rows();
@@ -162,9 +200,10 @@ impl ContactSolver {
             let (f0, f1) = s.blocks[g].faces;
             for &ci in &s.faces[f0 as usize..f1 as usize] {
                 let c = &self.constraints[ci as usize];
+                let lower = if c.lower == 1 { c.s1 } else { c.s2 };
                 let mut push = |kind| {
-                    let lower = if c.lower == 1 { c.s1 } else { c.s2 };
-                    s.rows.push(Row { ju: [Vec3::zeros(); 2], jl: [Vec3::zeros(); 2], wu: [Vec3::zeros(); 2], lower, face: ci, block: g as u32, kind });
+                    let zero = [Vec3::zeros(); 2];
+                    s.rows.push(Row { ju: zero, jl: zero, wu: zero, lower, face: ci, block: g as u32, kind });
                 };
                 for pi in c.start..c.start + c.len {
                     push(RowKind::Normal(pi));
@@ -187,7 +226,7 @@ impl ContactSolver {
         s.factor.resize(koff as usize, 0.0);
     }
 
-    /// `J` and `M⁻¹Jᵀ` of block `g`'s rows at the current arms, `K`, its factor.
+    /// `J`, `M⁻¹Jᵀ` and `Q` of block `g`'s rows at the current arms.
     fn assemble_block(&mut self, g: usize) {
         let b = self.support.blocks[g];
         let upper = &self.bodies[b.body as usize];
@@ -214,6 +253,20 @@ impl ContactSolver {
             row.jl = jl;
             row.wu = [ju[0] * inv_m, inv_i * ju[1]];
         }
+        let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
+        let q = least_norm_operator(rows, &self.bodies[b.body as usize]);
+        let blk = &mut self.support.blocks[g];
+        blk.q = q;
+        blk.dirty = false;
+        blk.k_ready = false;
+    }
+
+    /// `K` of block `g` and its factor, if not already those of its rows.
+    fn ensure_k(&mut self, g: usize) {
+        let b = self.support.blocks[g];
+        if b.k_ready {
+            return;
+        }
         let m = (b.rows.1 - b.rows.0) as usize;
         let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
         let k = &mut self.support.k[b.k as usize..b.k as usize + m * m];
@@ -225,89 +278,111 @@ impl ContactSolver {
             }
         }
         factor(k, &mut self.support.factor[b.k as usize..b.k as usize + m * m], m);
-        let q = least_norm_operator(rows, &self.bodies[b.body as usize]);
-        let blk = &mut self.support.blocks[g];
-        blk.q = q;
-        blk.dirty = false;
+        self.support.blocks[g].k_ready = true;
     }
 
-    /// Solves block `g` for the velocity targets: exactly if the answer pushes at
-    /// every point and fits every cone, else by projected Gauss–Seidel. Applies
-    /// the change to the upper body, adds it to the accumulated impulses and
-    /// keeps it as debt for the lower bodies.
-    pub(crate) fn solve_block(&mut self, g: usize, targets: &[Target]) {
+    /// Solves block `g` for the targets of its rows in `Support::targets`:
+    /// exactly if the answer pushes at every point and fits every cone, else by
+    /// projected Gauss–Seidel. Applies the change to the upper body, adds it to
+    /// the accumulated impulses and keeps it as debt for the lower bodies.
+    pub(crate) fn solve_block(&mut self, g: usize) {
         let b = self.support.blocks[g];
-        let (r0, m) = (b.rows.0 as usize, (b.rows.1 - b.rows.0) as usize);
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let mut sc = std::mem::take(&mut self.support.scratch);
+        sc.reset(r1 - r0);
         let upper = &self.bodies[b.body as usize];
         let nu = (upper.v, upper.w);
-        let mut r = vec![0.0; m];
-        let mut lambda = vec![0.0; m];
-        for i in 0..m {
-            let row = &self.support.rows[r0 + i];
+        let mut largest = 0.0f64;
+        for (i, row) in self.support.rows[r0..r1].iter().enumerate() {
             let lo = &self.bodies[row.lower as usize];
-            let v = row.velocity(&nu, &(lo.v, lo.w));
-            r[i] = match targets[i] {
-                Target::AtLeast(t) | Target::Friction(t) | Target::Free(t) => t - v,
+            let r = match self.support.targets[r0 + i] {
                 Target::Skip => 0.0,
+                t => t.value() - row.velocity(&nu, &(lo.v, lo.w)),
             };
-            lambda[i] = row.lambda(&self.points, &self.patches);
+            sc.r[i] = r;
+            largest = largest.max(r.abs());
+            sc.lambda[i] = row.lambda(&self.points, &self.patches);
         }
-        let y = self.block_increment(g, targets, &r, &lambda);
+        // At rest the warm start has already done it all: nothing to solve.
+        if largest <= self.support.residual {
+            self.support.scratch = sc;
+            return;
+        }
+        self.block_increment(g, &mut sc);
         let (mut dv, mut dw) = (Vec3::zeros(), Vec3::zeros());
-        for i in 0..m {
-            if y[i] == 0.0 {
+        for i in 0..r1 - r0 {
+            let row = self.support.rows[r0 + i];
+            if let RowKind::Normal(_) = row.kind {
+                // A point the solve left at round-off below zero pushes nothing.
+                sc.y[i] = sc.y[i].max(-sc.lambda[i]);
+            }
+            let y = sc.y[i];
+            if y == 0.0 {
                 continue;
             }
-            let row = self.support.rows[r0 + i];
-            dv += row.wu[0] * y[i];
-            dw += row.wu[1] * y[i];
-            row.set_lambda(&mut self.points, &mut self.patches, lambda[i] + y[i]);
-            self.support.debt[r0 + i] += y[i];
+            dv += row.wu[0] * y;
+            dw += row.wu[1] * y;
+            row.set_lambda(&mut self.points, &mut self.patches, sc.lambda[i] + y);
+            self.support.debt[r0 + i] += y;
         }
         let ub = &mut self.bodies[b.body as usize];
         ub.v += dv;
         ub.w += dw;
+        self.support.scratch = sc;
     }
 
-    /// The change of block `g`'s impulses from `lambda` that meets the targets
-    /// (`r`: target minus current row velocity).
-    fn block_increment(&mut self, g: usize, targets: &[Target], r: &[f64], lambda: &[f64]) -> Vec<f64> {
+    /// The change `sc.y` of block `g`'s impulses from `sc.lambda` that meets its
+    /// targets (`sc.r`: target minus current row velocity).
+    fn block_increment(&mut self, g: usize, sc: &mut Scratch) {
         let b = self.support.blocks[g];
-        let m = r.len();
-        if !targets.iter().any(|t| matches!(t, Target::Skip)) {
-            let y = match &b.q {
-                Some(q) => min_norm(q, &self.support.rows[b.rows.0 as usize..b.rows.1 as usize], r),
-                None => solve_factored(&self.support.factor[b.k as usize..b.k as usize + m * m], r, m),
-            };
-            if self.fits(g, targets, lambda, &y) {
-                return y;
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let m = r1 - r0;
+        if !self.support.targets[r0..r1].contains(&Target::Skip) {
+            match &b.q {
+                Some(q) => min_norm(q, &self.support.rows[r0..r1], &sc.r, &mut sc.y),
+                None => {
+                    self.ensure_k(g);
+                    let fac = &self.support.factor[b.k as usize..b.k as usize + m * m];
+                    solve_factored(fac, &sc.r, &mut sc.y);
+                }
+            }
+            if self.fits(g, sc) {
+                return;
             }
         }
-        self.projected_gauss_seidel(g, targets, r, lambda)
+        self.ensure_k(g);
+        self.projected_gauss_seidel(g, sc);
     }
 
     /// Whether impulses `lambda + y` push at every point and fit every cone
     /// (marking the patches as sticking if so).
-    fn fits(&mut self, g: usize, targets: &[Target], lambda: &[f64], y: &[f64]) -> bool {
+    fn fits(&mut self, g: usize, sc: &Scratch) -> bool {
         let b = self.support.blocks[g];
-        let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
-        let scale = lambda.iter().chain(y).fold(0.0f64, |a, x| a.max(x.abs()));
-        let tiny = 1e-12 * scale;
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let rows = &self.support.rows[r0..r1];
+        let targets = &self.support.targets[r0..r1];
+        let scale = sc.lambda.iter().chain(&sc.y).fold(0.0f64, |a, x| a.max(x.abs()));
+        // The round-off of the solve (a point that carries nothing may come out at
+        // -1e-12 of the block's largest impulse): taken as zero.
+        let tiny = 1e-9 * scale;
         let mut i = 0;
         while i < rows.len() {
             let face = rows[i].face;
-            let (mut normal, mut tangent, mut twist) = (0.0, [0.0; 2], 0.0);
+            let (mut normal, mut tangent, mut twist, mut bounded) = (0.0, [0.0; 2], 0.0, true);
             while i < rows.len() && rows[i].face == face {
-                let l = lambda[i] + y[i];
+                let l = sc.lambda[i] + sc.y[i];
                 match (rows[i].kind, targets[i]) {
                     (RowKind::Normal(_), Target::AtLeast(_)) if l < -tiny => return false,
                     (RowKind::Normal(_), _) => normal += l,
-                    (RowKind::Tangent(a), _) => tangent[a as usize] = l,
+                    (RowKind::Tangent(a), t) => {
+                        tangent[a as usize] = l;
+                        bounded = !matches!(t, Target::Free(_));
+                    }
                     (RowKind::Twist, _) => twist = l,
                 }
                 i += 1;
             }
-            if matches!(targets[i - 1], Target::Free(_)) {
+            if !bounded {
                 continue;
             }
             let (c, f) = (&self.constraints[face as usize], &self.patches[face as usize]);
@@ -317,8 +392,7 @@ impl ContactSolver {
                 return false;
             }
         }
-        let (f0, f1) = b.faces;
-        for k in f0..f1 {
+        for k in b.faces.0..b.faces.1 {
             let ci = self.support.faces[k as usize];
             self.patches[ci as usize].sliding = false;
         }
@@ -327,14 +401,18 @@ impl ContactSolver {
 
     /// Projected Gauss–Seidel on block `g`'s `K` in impulse space: points push,
     /// friction stays in its cone (Coulomb: a patch that breaks away slides with
-    /// the dynamic coefficient), position rows (`Free`) are unbounded.
-    fn projected_gauss_seidel(&mut self, g: usize, targets: &[Target], r: &[f64], lambda: &[f64]) -> Vec<f64> {
+    /// the dynamic coefficient against its slip), position rows (`Free`) are
+    /// unbounded.
+    fn projected_gauss_seidel(&mut self, g: usize, sc: &mut Scratch) {
         let b = self.support.blocks[g];
-        let m = r.len();
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let m = r1 - r0;
         let k = &self.support.k[b.k as usize..b.k as usize + m * m];
-        let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
-        let mut y = vec![0.0; m];
-        let mut ky = vec![0.0; m];
+        let rows = &self.support.rows[r0..r1];
+        let targets = &self.support.targets[r0..r1];
+        let (y, ky, r, lambda) = (&mut sc.y, &mut sc.ky, &sc.r, &sc.lambda);
+        y.iter_mut().for_each(|v| *v = 0.0);
+        ky.iter_mut().for_each(|v| *v = 0.0);
         let add = |y: &mut [f64], ky: &mut [f64], i: usize, d: f64| {
             if d != 0.0 {
                 y[i] += d;
@@ -352,30 +430,24 @@ impl ContactSolver {
                     let res = r[i] - ky[i];
                     let kii = k[i * m + i];
                     match (rows[i].kind, targets[i]) {
-                        (_, Target::Skip) => {
-                            if let RowKind::Normal(_) = rows[i].kind {
-                                normal += lambda[i] + y[i];
-                            }
-                        }
+                        (RowKind::Normal(_), Target::Skip) => normal += lambda[i] + y[i],
                         (RowKind::Normal(_), Target::AtLeast(_)) => {
                             let l = lambda[i] + y[i];
                             let new = if kii > 0.0 { (l + res / kii).max(0.0) } else { l.max(0.0) };
-                            add(&mut y, &mut ky, i, new - l);
+                            add(y, ky, i, new - l);
                             normal += new;
                         }
                         (RowKind::Tangent(0), Target::Friction(_)) if i + 1 < m => {
-                            let patch = &mut self.patches[face as usize];
-                            let c = &self.constraints[face as usize];
+                            let (patch, c) = (&mut self.patches[face as usize], &self.constraints[face as usize]);
                             let l = [lambda[i] + y[i], lambda[i + 1] + y[i + 1]];
                             let res2 = r[i + 1] - ky[i + 1];
                             let (a, bb, d) = (kii, k[i * m + i + 1], k[(i + 1) * m + i + 1]);
                             let det = a * d - bb * bb;
                             let step = if det > 0.0 { [(d * res - bb * res2) / det, (a * res2 - bb * res) / det] } else { [0.0; 2] };
-                            let cand = [l[0] + step[0], l[1] + step[1]];
                             // With a zero target, what is left to do is minus the slip.
-                            let new = cone(patch, c, cand, [-res, -res2], normal);
-                            add(&mut y, &mut ky, i, new[0] - l[0]);
-                            add(&mut y, &mut ky, i + 1, new[1] - l[1]);
+                            let new = cone(patch, c, [l[0] + step[0], l[1] + step[1]], [-res, -res2], normal);
+                            add(y, ky, i, new[0] - l[0]);
+                            add(y, ky, i + 1, new[1] - l[1]);
                             i += 1;
                         }
                         (RowKind::Twist, Target::Friction(_)) => {
@@ -384,13 +456,13 @@ impl ContactSolver {
                             let limit = mu * normal.max(patch.settled) * patch.radius;
                             let l = lambda[i] + y[i];
                             let new = if kii > 0.0 { (l + res / kii).clamp(-limit, limit) } else { l };
-                            add(&mut y, &mut ky, i, new - l);
+                            add(y, ky, i, new - l);
                         }
-                        _ => {
+                        (kind, _) => {
                             if kii > 0.0 {
-                                add(&mut y, &mut ky, i, res / kii);
+                                add(y, ky, i, res / kii);
                             }
-                            if let RowKind::Normal(_) = rows[i].kind {
+                            if let RowKind::Normal(_) = kind {
                                 normal += lambda[i] + y[i];
                             }
                         }
@@ -399,7 +471,6 @@ impl ContactSolver {
                 }
             }
         }
-        y
     }
 
     /// One position pass over block `g`: the upper body moved (not its velocity)
@@ -407,41 +478,39 @@ impl ContactSolver {
     /// the excess (at most `cap` a pass), and its patches neither slide nor turn.
     pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64) {
         let b = self.support.blocks[g];
-        let (r0, m) = (b.rows.0 as usize, (b.rows.1 - b.rows.0) as usize);
-        let mut targets = Vec::with_capacity(m);
-        let mut r = Vec::with_capacity(m);
-        for i in 0..m {
-            let row = &self.support.rows[r0 + i];
-            let t = match row.kind {
-                RowKind::Normal(pi) => {
-                    let c = &self.constraints[row.face as usize];
-                    let s = super::solver_body::Gap::new(&self.bodies, c).separation(&self.points[pi as usize]);
-                    let s = s + rest;
-                    if s < 0.0 {
-                        Target::AtLeast((-rate * s).min(cap))
-                    } else {
-                        Target::AtLeast(-s)
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let mut push = false;
+        let mut i = r0;
+        while i < r1 {
+            let face = self.support.rows[i].face;
+            let gap = super::solver_body::Gap::new(&self.bodies, &self.constraints[face as usize]);
+            while i < r1 && self.support.rows[i].face == face {
+                self.support.targets[i] = match self.support.rows[i].kind {
+                    RowKind::Normal(pi) => {
+                        let s = gap.separation(&self.points[pi as usize]) + rest;
+                        push |= s < 0.0;
+                        Target::AtLeast(if s < 0.0 { (-rate * s).min(cap) } else { -s })
                     }
-                }
-                _ => Target::Free(0.0),
-            };
-            r.push(match t {
-                Target::AtLeast(v) | Target::Friction(v) | Target::Free(v) => v,
-                Target::Skip => 0.0,
-            });
-            targets.push(t);
+                    _ => Target::Free(0.0),
+                };
+                i += 1;
+            }
         }
-        if !targets.iter().any(|t| matches!(t, Target::AtLeast(v) if *v > 0.0)) {
+        if !push {
             return;
         }
-        let zero = vec![0.0; m];
-        let y = self.block_increment(g, &targets, &r, &zero);
-        let (mut dx, mut dtheta) = (Vec3::zeros(), Vec3::zeros());
-        for i in 0..m {
-            let row = &self.support.rows[r0 + i];
-            dx += row.wu[0] * y[i];
-            dtheta += row.wu[1] * y[i];
+        let mut sc = std::mem::take(&mut self.support.scratch);
+        sc.reset(r1 - r0);
+        for i in 0..r1 - r0 {
+            sc.r[i] = self.support.targets[r0 + i].value();
         }
+        self.block_increment(g, &mut sc);
+        let (mut dx, mut dtheta) = (Vec3::zeros(), Vec3::zeros());
+        for (row, y) in self.support.rows[r0..r1].iter().zip(&sc.y) {
+            dx += row.wu[0] * *y;
+            dtheta += row.wu[1] * *y;
+        }
+        self.support.scratch = sc;
         let ub = &mut self.bodies[b.body as usize];
         if ub.dynamic {
             ub.dp += dx;
@@ -454,14 +523,14 @@ impl ContactSolver {
 /// `Q = P⁻¹ M P⁻¹` of a block whose rows `J` hold all six velocities of its
 /// upper body (`P = Jᵀ W⁻¹ J` well conditioned, `W` the rows' weights), else
 /// `None`.
-fn least_norm_operator(rows: &[Row], upper: &super::solver_body::SolverBody) -> Option<Matrix6<f64>> {
+fn least_norm_operator(rows: &[Row], upper: &SolverBody) -> Option<Matrix6<f64>> {
     if rows.len() < 6 || upper.inv_m <= 0.0 {
         return None;
     }
     let mut p = Matrix6::zeros();
     for r in rows {
-        let j = Vector6::new(r.ju[0].x, r.ju[0].y, r.ju[0].z, r.ju[1].x, r.ju[1].y, r.ju[1].z);
-        p += j * j.transpose() * inv_weight(r.kind);
+        let j = r.ju6();
+        p += j * j.transpose() * r.inv_weight();
     }
     let ch = p.cholesky()?;
     let d = ch.l_dirty().diagonal();
@@ -476,20 +545,21 @@ fn least_norm_operator(rows: &[Row], upper: &super::solver_body::SolverBody) -> 
     Some(pinv * mass * pinv)
 }
 
-/// The least-norm solution of `K y = r` (`K = J M⁻¹ Jᵀ`, least `yᵀ W y`) for
-/// rows `J` of full column rank: `y = W⁻¹ J Q Jᵀ W⁻¹ r`. Among the impulses
+/// The least-norm solution `y` of `K y = r` (`K = J M⁻¹ Jᵀ`, least `yᵀ W y`)
+/// for rows `J` of full column rank: `y = W⁻¹ J Q Jᵀ W⁻¹ r`. Among the impulses
 /// that give the same motion it spreads the load evenly over the points (a box
 /// on two boxes rests on both, not on the one whose rows came first) and uses
 /// friction only where the normals cannot act.
-fn min_norm(q: &Matrix6<f64>, rows: &[Row], r: &[f64]) -> Vec<f64> {
+fn min_norm(q: &Matrix6<f64>, rows: &[Row], r: &[f64], y: &mut [f64]) {
     let mut jr = Vector6::zeros();
     for (row, &ri) in rows.iter().zip(r) {
-        let j = Vector6::new(row.ju[0].x, row.ju[0].y, row.ju[0].z, row.ju[1].x, row.ju[1].y, row.ju[1].z);
-        jr += j * (ri * inv_weight(row.kind));
+        jr += row.ju6() * (ri * row.inv_weight());
     }
     let x = q * jr;
     let (xl, xa) = (Vec3::new(x[0], x[1], x[2]), Vec3::new(x[3], x[4], x[5]));
-    rows.iter().map(|row| (row.ju[0].dot(&xl) + row.ju[1].dot(&xa)) * inv_weight(row.kind)).collect()
+    for (row, yi) in rows.iter().zip(y.iter_mut()) {
+        *yi = (row.ju[0].dot(&xl) + row.ju[1].dot(&xa)) * row.inv_weight();
+    }
 }
 
 /// A tangential impulse `cand` (the one that stops the patch) on the cone of
@@ -544,26 +614,26 @@ pub fn factor(k: &[f64], out: &mut [f64], m: usize) {
 }
 
 /// Solves `K y = r` with the factor of [`factor`]; dependent rows get `y = 0`.
-pub fn solve_factored(fac: &[f64], r: &[f64], m: usize) -> Vec<f64> {
-    let mut z = r.to_vec();
+pub fn solve_factored(fac: &[f64], r: &[f64], y: &mut [f64]) {
+    let m = r.len();
+    y.copy_from_slice(r);
     for i in 0..m {
         for p in 0..i {
-            z[i] -= fac[i * m + p] * z[p];
+            y[i] -= fac[i * m + p] * y[p];
         }
     }
     for i in 0..m {
         let d = fac[i * m + i];
-        z[i] = if d > 0.0 { z[i] / d } else { 0.0 };
+        y[i] = if d > 0.0 { y[i] / d } else { 0.0 };
     }
     for i in (0..m).rev() {
         if fac[i * m + i] == 0.0 {
             continue;
         }
         for p in i + 1..m {
-            z[i] -= fac[p * m + i] * z[p];
+            y[i] -= fac[p * m + i] * y[p];
         }
     }
-    z
 }
 
 #[cfg(test)]
@@ -584,7 +654,8 @@ mod tests {
         factor(&k, &mut fac, 3);
         assert_eq!(fac[8], 0.0);
         let r = [1.0, 2.0, 3.0]; // consistent: r2 = r0 + r1
-        let y = solve_factored(&fac, &r, 3);
+        let mut y = [0.0; 3];
+        solve_factored(&fac, &r, &mut y);
         for i in 0..3 {
             let ky: f64 = (0..3).map(|j| k[i * 3 + j] * y[j]).sum();
             assert!((ky - r[i]).abs() < 1e-12, "{ky} vs {}", r[i]);

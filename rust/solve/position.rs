@@ -26,6 +26,8 @@ impl ContactSolver {
         let rate = self.position_rate(h);
         let cap = self.settings.max_push_velocity * h;
         let rest = super::impulse::REST_DEPTH * self.settings.slop;
+        let rows = self.support.rows.len();
+        self.support.targets.resize(rows, super::block::Target::Skip);
         for g in 0..self.support.blocks.len() {
             self.push_block(g, rate, cap, rest);
         }

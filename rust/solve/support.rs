@@ -30,7 +30,7 @@
 //! Balls side by side, walls and contacts without gravity are solved both ways
 //! by Gauss–Seidel.
 
-use super::block::{Block, Row, RowKind, Target};
+use super::block::{Block, Row, RowKind, Scratch, Target};
 use super::contact::ContactSolver;
 use super::impulse::Rule;
 use super::solver_body::Gap;
@@ -40,6 +40,9 @@ use crate::math::Vec3;
 /// for the contact to count as support: balls resting in the hollows of a square
 /// layer touch at 45°, those of a close-packed pile at 35°.
 const SUPPORT_ANGLE: f64 = 0.5;
+
+/// Residual taken as solved, as a fraction of `g h`.
+const RESIDUAL: f64 = 1e-8;
 
 /// Mass ratio (upper over lower) above which a contact of fewer than three
 /// points is a support contact: a Gauss–Seidel pass moves a light body's worth of
@@ -56,6 +59,15 @@ pub struct Support {
     /// `K` and its factor, block after block (`m²` numbers each).
     pub k: Vec<f64>,
     pub factor: Vec<f64>,
+    /// Per row: what the pass asks of it.
+    pub targets: Vec<Target>,
+    /// Largest row residual (m/s) of a block taken as solved already: the
+    /// round-off left by the warm start of a body at rest under its load, which
+    /// grows with the load (measured up to 1e-12 m/s in a 20-row pyramid), far
+    /// below what it would move a body by in a minute. [`RESIDUAL`] of the
+    /// velocity gravity gives in a substep.
+    pub residual: f64,
+    pub scratch: Scratch,
     /// Per row: impulse kept back for the lower body, and the impulse before
     /// the sweeps of a pass.
     pub debt: Vec<f64>,
@@ -76,6 +88,7 @@ impl Support {
 impl ContactSolver {
     /// Finds the support contacts, their lower sides and the blocks.
     pub(crate) fn plan_support(&mut self, up: &Vec3, gravity: f64) {
+        self.support.residual = RESIDUAL * gravity / self.inv_h;
         self.ordinary.clear();
         let s = &mut self.support;
         s.blocks.clear();
@@ -184,6 +197,7 @@ impl ContactSolver {
             return;
         }
         self.assemble_blocks(false);
+        self.velocity_targets(rule);
         let s = &mut self.support;
         s.debt.clear();
         s.debt.resize(s.rows.len(), 0.0);
@@ -193,12 +207,9 @@ impl ContactSolver {
         for r in &s.rows {
             s.start_lambda.push(r.lambda(&self.points, &self.patches));
         }
-        let n = self.support.blocks.len();
-        let mut targets = Vec::with_capacity(self.support.rows.len());
+        let n = s.blocks.len();
         for k in 0..n {
-            let t = self.velocity_targets(k, rule);
-            self.solve_block(k, &t);
-            targets.extend(t);
+            self.solve_block(k);
         }
         // Top down a level at a time: every block of a level is solved on its
         // supports as the bottom-up sweep left them, then their debts are paid (a
@@ -212,17 +223,61 @@ impl ContactSolver {
                 start -= 1;
             }
             for k in (start..end).rev() {
-                let targets = self.velocity_targets(k, rule);
-                self.solve_block(k, &targets);
+                self.solve_block(k);
             }
             for k in start..end {
                 self.pay(k);
             }
             end = start;
         }
-        let step = self.sweep_step(&targets);
+        let step = self.sweep_step();
         if step < 1.0 {
             self.shorten_sweep(step);
+        }
+    }
+
+    /// Targets of every row for a velocity pass: a gap may close within the
+    /// substep; friction and twist stop the slip.
+    fn velocity_targets(&mut self, rule: &Rule) {
+        let s = &mut self.support;
+        s.targets.clear();
+        let mut i = 0;
+        while i < s.rows.len() {
+            let face = s.rows[i].face;
+            let gap = Gap::new(&self.bodies, &self.constraints[face as usize]);
+            while i < s.rows.len() && s.rows[i].face == face {
+                s.targets.push(match s.rows[i].kind {
+                    RowKind::Normal(pi) => {
+                        let sep = rule.effective(gap.separation(&self.points[pi as usize]));
+                        if rule.relax && sep > 0.0 {
+                            // After the drift a gap is the next substep's business:
+                            // closing it here would brake a body that has not arrived.
+                            Target::Skip
+                        } else {
+                            Target::AtLeast(-rule.bias(sep))
+                        }
+                    }
+                    _ => Target::Friction(0.0),
+                });
+                i += 1;
+            }
+        }
+    }
+
+    /// Applies the impulses block `k` kept back to its lower bodies.
+    fn pay(&mut self, k: usize) {
+        let b = &self.support.blocks[k];
+        for ri in b.rows.0 as usize..b.rows.1 as usize {
+            let d = std::mem::take(&mut self.support.debt[ri]);
+            if d == 0.0 {
+                continue;
+            }
+            let r = &self.support.rows[ri];
+            let lo = &mut self.bodies[r.lower as usize];
+            if lo.dynamic {
+                lo.v += r.jl[0] * (d * lo.inv_m);
+                lo.w += lo.inv_i * (r.jl[1] * d);
+            }
         }
     }
 
@@ -232,13 +287,13 @@ impl ContactSolver {
     /// sweeps solved the blocks exactly (a column, a pyramid at rest); less where
     /// a lower body was not held as the sweeps assumed and they overshot, which
     /// would otherwise feed on itself from pass to pass.
-    fn sweep_step(&self, targets: &[Target]) -> f64 {
+    fn sweep_step(&self) -> f64 {
         let s = &self.support;
         let (mut along, mut square) = (0.0, 0.0);
         for (ri, r) in s.rows.iter().enumerate() {
-            let target = match targets[ri] {
-                Target::AtLeast(t) | Target::Friction(t) | Target::Free(t) => t,
+            let target = match s.targets[ri] {
                 Target::Skip => continue,
+                t => t.value(),
             };
             let upper = s.blocks[r.block as usize].body as usize;
             let v0 = r.velocity(&s.start_velocity[upper], &s.start_velocity[r.lower as usize]) - target;
@@ -270,46 +325,6 @@ impl ContactSolver {
             let l0 = s.start_lambda[ri];
             let l = r.lambda(&self.points, &self.patches);
             r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
-        }
-    }
-
-    /// Targets of the rows of block `k` for a velocity pass: a gap may close
-    /// within the substep; friction and twist stop the slip.
-    fn velocity_targets(&self, k: usize, rule: &Rule) -> Vec<Target> {
-        let b = &self.support.blocks[k];
-        let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
-        rows.iter()
-            .map(|r| match r.kind {
-                RowKind::Normal(pi) => {
-                    let c = &self.constraints[r.face as usize];
-                    let s = rule.effective(Gap::new(&self.bodies, c).separation(&self.points[pi as usize]));
-                    if rule.relax && s > 0.0 {
-                        // After the drift a gap is the next substep's business:
-                        // closing it here would brake a body that has not arrived.
-                        Target::Skip
-                    } else {
-                        Target::AtLeast(-rule.bias(s))
-                    }
-                }
-                _ => Target::Friction(0.0),
-            })
-            .collect()
-    }
-
-    /// Applies the impulses block `k` kept back to its lower bodies.
-    fn pay(&mut self, k: usize) {
-        let b = &self.support.blocks[k];
-        for ri in b.rows.0 as usize..b.rows.1 as usize {
-            let d = std::mem::take(&mut self.support.debt[ri]);
-            if d == 0.0 {
-                continue;
-            }
-            let r = &self.support.rows[ri];
-            let lo = &mut self.bodies[r.lower as usize];
-            if lo.dynamic {
-                lo.v += r.jl[0] * (d * lo.inv_m);
-                lo.w += lo.inv_i * (r.jl[1] * d);
-            }
         }
     }
 }

@@ -1,6 +1,7 @@
 //! A [`Scene`] (a plain description, validated as it is filled) compiles into a
 //! [`World`] (state arrays plus the stages this scene needs).
 
+pub mod articulations;
 pub mod collision;
 pub mod diagnostics;
 pub mod joints;

@@ -19,6 +19,8 @@ pub struct Settings {
     pub iterations: u32,
     pub solver: SolverSettings,
     pub sleep: SleepSettings,
+    /// Articulations: on/off, integrator, substeps (see [`crate::articulation`]).
+    pub articulation: crate::articulation::ArticulationSettings,
 }
 
 impl Settings {
@@ -30,6 +32,7 @@ impl Settings {
             iterations: 1,
             solver: SolverSettings::default(),
             sleep: SleepSettings::default(),
+            articulation: Default::default(),
         }
     }
 
@@ -37,6 +40,9 @@ impl Settings {
         positive("dt", self.dt)?;
         if self.substeps == Some(0) {
             return Err(Error::input("substeps must be at least 1, got 0"));
+        }
+        if self.articulation.substeps == Some(0) {
+            return Err(Error::input("articulation_substeps must be at least 1, got 0"));
         }
         if self.iterations == 0 {
             return Err(Error::input("iterations must be at least 1, got 0"));

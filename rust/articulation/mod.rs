@@ -84,7 +84,7 @@ impl ArticulationIntegrator {
 }
 
 /// `h ω` per substep for the second-order methods (see [`substeps`]).
-pub const KAPPA: f64 = 0.5;
+pub const KAPPA: f64 = 0.25;
 
 /// Build options of articulations.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,14 +162,20 @@ impl Articulations {
                 let (q, v) = (art.q.clone(), art.v.clone());
                 dynamics::accelerations(art, &env, &q, &v, &v, None, &mut self.scratch, &mut qdd);
             }
-            let n = self.settings.substeps.unwrap_or_else(|| {
-                let omega = substeps::fastest_rate(art, integrator == ArticulationIntegrator::Rk4);
-                substeps::count(dt, omega, integrator.kappa())
-            });
-            let h = dt / n as f64;
             let mut applied = std::mem::take(&mut art.applied);
             applied.fill(0.0);
-            for _ in 0..n {
+            let drives = integrator == ArticulationIntegrator::Rk4;
+            // Automatic substeps: the rate is estimated again before every substep
+            // (from the state and the reactions of the last solve), so a chain
+            // that starts to whip within a step gets shorter substeps at once.
+            let (mut left, mut n) = (dt, 0u32);
+            while left > 0.0 {
+                let remaining = match self.settings.substeps {
+                    Some(fixed) => fixed.saturating_sub(n).max(1),
+                    None => substeps::count(left, substeps::fastest_rate(art, drives), integrator.kappa())
+                        .min(substeps::MAX_SUBSTEPS.saturating_sub(n).max(1)),
+                };
+                let h = if remaining <= 1 { left } else { left / remaining as f64 };
                 match integrator {
                     ArticulationIntegrator::Leapfrog => {
                         leapfrog::substep(art, &env, h, &mut self.scratch, &mut self.leap[k], &mut applied)
@@ -179,6 +185,8 @@ impl Articulations {
                     }
                     ArticulationIntegrator::Rk4 => rk4::substep(art, &env, h, &mut self.scratch, &mut self.rk[k], &mut applied),
                 }
+                left = if remaining <= 1 { 0.0 } else { left - h };
+                n += 1;
             }
             for x in applied.iter_mut() {
                 *x /= dt;

@@ -71,7 +71,9 @@ impl World {
         joint_pairs.dedup();
         let collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
         let xpbd_joints = compiled.articulated_joint.iter().any(|&a| !a);
-        let substeps = settings.substeps.unwrap_or(if collision.is_some() { 4 } else { 1 });
+        let base = if collision.is_some() { 4 } else { 1 };
+        let xpbd_base = if xpbd_joints { super::joints::xpbd_substeps(scene, &compiled.articulated_joint) } else { 1 };
+        let substeps = settings.substeps.unwrap_or(base.max(xpbd_base));
         let lists = BodyLists::new(&bodies).without(&compiled.articulated_body);
         let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
         let rotation = settings.integrator.splitting().map_or(Rotation::Free, |s| s.rotation);

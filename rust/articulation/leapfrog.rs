@@ -20,6 +20,11 @@
 //! Drives, damping and friction act in the first kick over the whole substep,
 //! implicitly with a look-ahead over the drift (backward Euler on the control
 //! forces: a stiff drive settles, never rings; first order in its own `ω h`).
+//! Statics are exact (a drive or friction holding a load is a fixed point of
+//! the step), and the drift moves at the controlled velocity `v½`; the velocity
+//! a step ends with lags the controls by half a substep: a velocity drive
+//! holding a load turns at `target − load/damping` exactly, and reads back
+//! `h/2 · load/J` less.
 
 use super::dynamics::{accelerations, record, Env, Kick, Scratch};
 use super::model::Articulation;

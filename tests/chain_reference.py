@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.linalg import cho_factor, cho_solve
 
 import rigidrs as rr
 
@@ -42,10 +43,11 @@ def reference(theta0: np.ndarray, lengths: np.ndarray, masses: np.ndarray, inert
 
     def rhs(_t: float, y: np.ndarray) -> np.ndarray:
         th, w = y[:n], y[n:]
-        d = th[:, None] - th[None, :]
-        m = b * np.cos(d)
-        f = -(b * np.sin(d)) @ (w * w) - g * s * np.sin(th)
-        return np.concatenate([w, np.linalg.solve(m, f)])
+        c, sn = np.cos(th), np.sin(th)
+        # cos(θi − θj) and sin(θi − θj) from outer products (no N² trigonometry).
+        m = b * (np.outer(c, c) + np.outer(sn, sn))
+        f = -(b * (np.outer(sn, c) - np.outer(c, sn))) @ (w * w) - g * s * sn
+        return np.concatenate([w, cho_solve(cho_factor(m), f)])
 
     y0 = np.concatenate([theta0, np.zeros(n)])
     sol = solve_ivp(rhs, (0.0, float(times[-1])), y0, method="DOP853", rtol=1e-12, atol=1e-12, t_eval=times)

@@ -146,24 +146,27 @@ def test_solver_switch_per_joint_and_loops() -> None:
 
 
 def test_links_that_can_touch_a_collider_fall_back_to_xpbd() -> None:
-    # Contacts do not act on articulations yet: a chain whose links can touch the
-    # ground stays XPBD (visible in the stages); masked off it, it articulates.
-    def chain(mask: int) -> rr.World:
+    # Contacts do not act on articulations yet: a chain whose links can reach the
+    # ground stays XPBD (visible in the stages); masked off it, or hung where it
+    # cannot reach it (its reach: twice each link's farthest anchor plus its
+    # shape, 0.6 m here), it articulates.
+    def chain(mask: int, height: float) -> rr.World:
         scene = rr.Scene(gravity=(0, 0, -G))
         scene.add_body(rr.Plane(), fixed=True)
-        a = scene.add_body(rr.Box((0.1, 0.02, 0.02)), mass=1.0, position=(0.1, 0, 1), collision_mask=mask)
-        b = scene.add_body(rr.Box((0.1, 0.02, 0.02)), mass=1.0, position=(0.3, 0, 1), collision_mask=mask)
-        scene.add_joint("hinge", a, None, anchor=(0, 0, 1), axis=(0, 1, 0))
-        scene.add_joint("hinge", b, a, anchor=(0.2, 0, 1), axis=(0, 1, 0))
+        a = scene.add_body(rr.Box((0.1, 0.02, 0.02)), mass=1.0, position=(0.1, 0, height), collision_mask=mask)
+        b = scene.add_body(rr.Box((0.1, 0.02, 0.02)), mass=1.0, position=(0.3, 0, height), collision_mask=mask)
+        scene.add_joint("hinge", a, None, anchor=(0, 0, height), axis=(0, 1, 0))
+        scene.add_joint("hinge", b, a, anchor=(0.2, 0, height), axis=(0, 1, 0))
         return scene.build(dt=1 / 60)
 
-    touching = chain(0xFFFFFFFF)
+    touching = chain(0xFFFFFFFF, 0.3)
     assert "joints" in touching.stages and "articulation" not in touching.stages
-    alone = chain(0)
-    assert alone.stages == ["articulation"]
+    assert chain(0, 0.3).stages == ["articulation"]
+    high = chain(0xFFFFFFFF, 1.0).stages  # the filters allow, the reach does not
+    assert "articulation" in high and "joints" not in high
     touching.step(30)
-    alone.step(30)
     assert np.isfinite(touching.bodies.position).all()
+    assert touching.bodies.position[1:, 2].min() > 0.0  # held up by the ground
 
 
 def test_fixed_joint_reads_its_static_load() -> None:

@@ -1,11 +1,14 @@
 //! Articulations in the world: which joints become articulations (the joint
 //! graph's trees, see [`crate::articulation::build`]; a tree falls back to XPBD
-//! when a link could touch a collider outside it, since contacts do not act on
-//! articulations yet, or when a particle is attached to one of its links), the
+//! when a link could touch a collider outside it — its filter allows the pair
+//! and, for a system joined to the ground, the other collider is within its
+//! reach ([`super::reach`]) — since contacts do not act on articulations yet,
+//! or when a particle is attached to one of its links), the
 //! `articulation` stage, and the joints' read-back arrays that the Python views
 //! show: position, velocity, drive target and applied force per joint.
 
 use super::joints::SolverChoice;
+use super::reach::{self, Ball};
 use super::{Scene, Settings, World};
 use crate::articulation::build::{self, BodyInput, Component, JointInput};
 use crate::articulation::{spatial, Articulations, Control, DriveMode, JointModel};
@@ -79,8 +82,10 @@ fn inputs(scene: &Scene, settings: &Settings) -> (Vec<BodyInput>, Vec<JointInput
     (bodies, joints)
 }
 
-/// Why a component stays XPBD, if it does.
-fn fallback(scene: &Scene, comp: &Component, attached: &[bool]) -> Option<&'static str> {
+/// Why a component stays XPBD, if it does. `balls[c]`: where component `c` can
+/// reach (see [`super::reach`]); `owner[b]`: the component of body `b`.
+fn fallback(scene: &Scene, comps: &[Component], c: usize, attached: &[bool], balls: &[Option<Ball>], owner: &[usize]) -> Option<&'static str> {
+    let comp = &comps[c];
     if !comp.tree {
         return Some("its joints form a loop, or include a distance, compliant or solver=\"xpbd\" joint");
     }
@@ -88,14 +93,18 @@ fn fallback(scene: &Scene, comp: &Component, attached: &[bool]) -> Option<&'stat
         return Some("a particle is attached to one of its bodies");
     }
     let descs = scene.bodies();
-    let mut inside = vec![false; descs.len()];
-    for &b in &comp.bodies {
-        inside[b as usize] = true;
-    }
     let touches = comp.bodies.iter().any(|&b| {
         let link = &descs[b as usize];
         link.shape.is_some()
-            && descs.iter().enumerate().any(|(k, d)| !inside[k] && d.shape.is_some() && link.filter.allows(&d.filter))
+            && descs.iter().enumerate().any(|(k, d)| {
+                let other = owner[k];
+                other != c
+                    && d.shape.is_some()
+                    && link.filter.allows(&d.filter)
+                    && balls[c].as_ref().is_none_or(|ball| {
+                        reach::may_touch(ball, d, balls.get(other).and_then(|x| x.as_ref()))
+                    })
+            })
     });
     touches.then_some("one of its links can touch a collider outside it (contacts on articulations come later)")
 }
@@ -139,12 +148,20 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         link_pairs: Vec::new(),
     };
     let mut list = Vec::new();
-    for comp in build::components(&bodies, &joints) {
-        if let Some(reason) = fallback(scene, &comp, &attached) {
-            check_xpbd_ok(scene, &comp, reason)?;
+    let comps = build::components(&bodies, &joints);
+    let balls: Vec<Option<Ball>> = comps.iter().map(|c| reach::component_ball(scene, c)).collect();
+    let mut owner = vec![usize::MAX; n];
+    for (c, comp) in comps.iter().enumerate() {
+        for &b in &comp.bodies {
+            owner[b as usize] = c;
+        }
+    }
+    for (c, comp) in comps.iter().enumerate() {
+        if let Some(reason) = fallback(scene, &comps, c, &attached, &balls, &owner) {
+            check_xpbd_ok(scene, comp, reason)?;
             continue;
         }
-        let mut art = build::articulation(&comp, &bodies, &joints);
+        let mut art = build::articulation(comp, &bodies, &joints);
         for l in art.links.iter_mut().filter(|l| !l.child_is_a) {
             let rest = l.frames.rest.conjugate();
             flip(&mut l.control, &rest);

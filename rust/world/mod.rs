@@ -8,6 +8,7 @@ pub mod joints;
 pub mod particles;
 pub mod pipeline;
 pub mod profile;
+pub mod reach;
 pub mod scene;
 pub mod settings;
 pub mod step;

@@ -78,7 +78,8 @@ def rigidrs_pendulums(dt: float, option: str):
     import rigidrs as rr
     scene = rr.Scene(gravity=(0, 0, -G))
     for p in pivots():
-        b = scene.add_body(rr.Sphere(R_PEND), mass=M_PEND, position=p + (math.sin(TH0), 0, -math.cos(TH0)))
+        b = scene.add_body(rr.Sphere(R_PEND), mass=M_PEND, position=p + (math.sin(TH0), 0, -math.cos(TH0)),
+                           collision_mask=0)
         scene.add_joint("hinge", b, None, anchor=p, axis=(0, 1, 0))
     world = scene.build(dt=dt, articulation_integrator=option)
     world.profiling = False

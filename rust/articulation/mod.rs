@@ -23,6 +23,7 @@ pub mod leapfrog;
 pub mod limits;
 pub mod model;
 pub mod rk4;
+pub mod single;
 pub mod spatial;
 pub mod substeps;
 
@@ -111,12 +112,15 @@ pub struct Articulations {
     scratch: Scratch,
     leap: Vec<leapfrog::Buffers>,
     rk: Vec<rk4::Buffers>,
+    /// The closed form of each single hinge or slide on the world.
+    single: Vec<Option<single::Single>>,
 }
 
 impl Articulations {
-    pub fn new(list: Vec<Articulation>, settings: ArticulationSettings) -> Self {
+    pub fn new(list: Vec<Articulation>, settings: ArticulationSettings, gravity: Vec3) -> Self {
         let n = list.len();
-        Self { list, settings, scratch: Scratch::default(), leap: vec![Default::default(); n], rk: vec![Default::default(); n] }
+        let single = list.iter().map(|a| single::Single::of(a).map(|s| s.with_gravity(&gravity, a.links[0].mass))).collect();
+        Self { list, settings, scratch: Scratch::default(), leap: vec![Default::default(); n], rk: vec![Default::default(); n], single }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -129,16 +133,33 @@ impl Articulations {
         for b in &mut self.leap {
             b.last_valid = false;
         }
+        for a in &mut self.list {
+            a.cached_qdd = None;
+        }
     }
 
     /// Writes every link's pose and velocity from `q`, `v` into `bodies`.
     pub fn write_bodies(&mut self, bodies: &mut Bodies) {
-        for art in &mut self.list {
+        for (art, single) in self.list.iter_mut().zip(&self.single) {
+            if let Some(s) = single {
+                s.write(art, bodies);
+                continue;
+            }
             let (q, v) = (std::mem::take(&mut art.q), std::mem::take(&mut art.v));
             kinematics::forward(art, &q, &v, bodies, false);
             art.q = q;
             art.v = v;
             kinematics::write_bodies(art, bodies);
+        }
+    }
+
+    /// Refreshes the joint reactions of the closed-form articulations (the
+    /// general ones leave theirs from their last solve).
+    pub fn refresh_reactions(&mut self, bodies: &Bodies, gravity: &Vec3) {
+        for (art, single) in self.list.iter_mut().zip(&self.single) {
+            if let Some(s) = single {
+                s.reaction(art, gravity, bodies);
+            }
         }
     }
 
@@ -151,12 +172,16 @@ impl Articulations {
                 art.v.fill(0.0);
                 continue;
             }
+            if let (Some(s), false) = (&self.single[k], self.settings.integrator == ArticulationIntegrator::Rk4) {
+                step_single(s, art, &self.settings, dt, gravity, bodies, &mut self.scratch.terms);
+                continue;
+            }
             let external = art.links.iter().any(|l| {
                 let b = l.body as usize;
                 bodies.force[b] != [0.0; 3] || bodies.torque[b] != [0.0; 3]
             });
-            let env = Env { bodies, gravity: *gravity, external };
             let integrator = self.settings.integrator;
+            let env = Env { bodies, gravity: *gravity, external };
             if art.work.first().is_some_and(|w| w.inertia[(3, 3)] == 0.0) {
                 let mut qdd = vec![0.0; art.nv];
                 let (q, v) = (art.q.clone(), art.v.clone());
@@ -200,4 +225,33 @@ impl Articulations {
             kinematics::write_bodies(art, bodies);
         }
     }
+}
+
+/// One step of a single hinge or slide on the world, by its closed form.
+fn step_single(
+    s: &single::Single,
+    art: &mut Articulation,
+    settings: &ArticulationSettings,
+    dt: f64,
+    gravity: &Vec3,
+    bodies: &mut Bodies,
+    terms: &mut Vec<control::Term>,
+) {
+    let euler = settings.integrator == ArticulationIntegrator::Euler;
+    let mut applied = [0.0];
+    let (mut left, mut n) = (dt, 0u32);
+    while left > 0.0 {
+        let remaining = match settings.substeps {
+            Some(fixed) => fixed.saturating_sub(n).max(1),
+            None => substeps::count(left, s.fastest_rate(art, gravity), settings.integrator.kappa())
+                .min(substeps::MAX_SUBSTEPS.saturating_sub(n).max(1)),
+        };
+        let h = if remaining <= 1 { left } else { left / remaining as f64 };
+        s.substep(art, euler, h, gravity, bodies, terms, &mut applied);
+        left = if remaining <= 1 { 0.0 } else { left - h };
+        n += 1;
+    }
+    art.applied[0] = applied[0] / dt;
+    art.last_substeps = n;
+    s.write(art, bodies);
 }

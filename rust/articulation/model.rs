@@ -99,6 +99,8 @@ pub struct Articulation {
     pub last_substeps: u32,
     /// Whether `q̈` depends on `v` (anything but a single 1-dof link).
     pub velocity_dependent: bool,
+    /// A single passive hinge or slide: `q̈` at the end of its last substep.
+    pub cached_qdd: Option<f64>,
 }
 
 impl Articulation {
@@ -108,6 +110,6 @@ impl Articulation {
         let work = vec![LinkWork::default(); links.len()];
         use super::joint::JointModel::{Fixed, Prismatic, Revolute};
         let single = links.len() == 1 && matches!(links[0].model, Revolute | Prismatic | Fixed);
-        Self { links, nq, nv, q, v, work, applied: vec![0.0; nv], last_substeps: 0, velocity_dependent: !single }
+        Self { links, nq, nv, q, v, work, applied: vec![0.0; nv], last_substeps: 0, velocity_dependent: !single, cached_qdd: None }
     }
 }

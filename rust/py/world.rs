@@ -204,13 +204,13 @@ impl PyWorld {
 
     /// Force (J, 3) (N, world) each joint applied to its body a over the last
     /// substep; body b received the opposite.
-    fn joint_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    fn joint_forces<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         joints::rows(py, self.inner.joint_forces())
     }
 
     /// Couple (J, 3) (N·m, world) each joint's angular constraints applied to
     /// body a over the last substep (with the force: the wrench about a's anchor).
-    fn joint_torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    fn joint_torques<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         joints::rows(py, self.inner.joint_torques())
     }
 

@@ -179,7 +179,7 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         }
         list.push(art);
     }
-    out.articulations = Articulations::new(list, settings.articulation);
+    out.articulations = Articulations::new(list, settings.articulation, Vec3::from(scene.gravity));
     Ok(out)
 }
 
@@ -286,13 +286,27 @@ impl World {
     /// Refreshes the joints' position, velocity and force arrays.
     pub(crate) fn read_joints(&mut self) {
         for art in &self.articulations.list {
-            for (l, w) in art.links.iter().zip(&art.work) {
+            for l in &art.links {
                 let Some(j) = l.joint else { continue };
                 let s = if l.child_is_a { 1.0 } else { -1.0 };
                 let one = l.model.nv() == 1;
                 self.joint_position[j] = if one { s * art.q[l.q_at] } else { f64::NAN };
                 self.joint_velocity[j] = if one { s * art.v[l.v_at] } else { f64::NAN };
                 self.joint_force[j] = if one { s * art.applied[l.v_at] } else { f64::NAN };
+            }
+        }
+        self.read_xpbd_joints();
+    }
+
+    /// The wrench each articulated joint transmits, into the joints' force and
+    /// torque read-back (computed when asked: `joint_forces`, `joint_torques`).
+    pub(crate) fn read_joint_wrenches(&mut self) {
+        let g = self.gravity;
+        self.articulations.refresh_reactions(&self.bodies, &g);
+        for art in &self.articulations.list {
+            for (l, w) in art.links.iter().zip(&art.work) {
+                let Some(j) = l.joint else { continue };
+                let s = if l.child_is_a { 1.0 } else { -1.0 };
                 // The wrench the joint transmits to the child, about the anchor;
                 // body a is the child or receives the opposite.
                 let (f, n) = (spatial::lin(&w.reaction), spatial::ang(&w.reaction));
@@ -302,7 +316,6 @@ impl World {
                 self.joints.torque[j] = (s * couple).into();
             }
         }
-        self.read_xpbd_joints();
     }
 
     /// XPBD hinges and slides: angle and slide from the bodies' poses; the

@@ -148,15 +148,18 @@ impl World {
         self.joints.project(&mut self.bodies, h, self.settings.iterations);
     }
 
-    /// Force (N, world) each joint applied to its body a over the last substep;
-    /// body b received the opposite.
-    pub fn joint_forces(&self) -> &[[f64; 3]] {
+    /// Force (N, world) each joint applied to its body a over the last substep
+    /// (an articulated joint: the force it transmits at the step's end); body b
+    /// received the opposite.
+    pub fn joint_forces(&mut self) -> &[[f64; 3]] {
+        self.read_joint_wrenches();
         &self.joints.force
     }
 
     /// Couple (N·m, world) each joint's angular constraints applied to body a
     /// over the last substep: with the force, the wrench about a's anchor.
-    pub fn joint_torques(&self) -> &[[f64; 3]] {
+    pub fn joint_torques(&mut self) -> &[[f64; 3]] {
+        self.read_joint_wrenches();
         &self.joints.torque
     }
 

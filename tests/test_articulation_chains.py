@@ -62,14 +62,14 @@ def test_reference_chain_released_horizontally() -> None:
     assert worst_gap <= 1e-12
 
 
-@pytest.mark.parametrize("n, length, seconds, bar", [(50, 1.0, 2.0, 0.02), (100, 2.0, 5.0, 0.15)])
+@pytest.mark.parametrize("n, length, seconds, bar", [(50, 1.0, 2.0, 0.02), (100, 2.0, 5.0, 0.2)])
 def test_issue_chains_at_60_hz_hold(n: int, length: float, seconds: float, bar: float) -> None:
     # Issue 14's worst cases: 2 cm, 10 g links from horizontal at dt = 1/60
     # (MuJoCo: NaN / unstable; Rapier: −37 %; XPBD at 1 substep: ×100). The tip
     # whips at up to ~1900 rad/s, and the substeps follow it (up to ~170 here).
     # Measured energy change: 0.6 % of M g L / 2 for 50 links over 2 s; 6–12 %
-    # for 100 links over 5 s (chaotic: the figure depends on the last bit).
-    # Asserted: 2 % and 15 %.
+    # for 100 links over 5 s (6–13 %: chaotic, the figure depends on the last bit).
+    # Asserted: 2 % and 20 %.
     world, bodies, lengths, _, _ = chain(n, length, 0.01 * n, np.pi / 2)
     e0, scale = energy(world), 0.01 * n * G * length / 2
     worst_e, worst_gap = 0.0, 0.0

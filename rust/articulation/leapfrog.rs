@@ -32,7 +32,7 @@ use super::{joint, limits};
 
 /// Fixed-point passes of the implicit half kick at most, and the change (m/s
 /// or rad/s, relative to the velocities' size) below which it stops.
-const PASSES: usize = 4;
+const PASSES: usize = 2;
 const TOLERANCE: f64 = 1e-13;
 
 /// Work arrays that outlive a substep.

@@ -101,6 +101,8 @@ pub struct Articulation {
     pub velocity_dependent: bool,
     /// A single passive hinge or slide: `q̈` at the end of its last substep.
     pub cached_qdd: Option<f64>,
+    /// A single hinge: `(q, sin q/2, cos q/2)` of its last evaluation.
+    pub cached_half: Option<(f64, f64, f64)>,
 }
 
 impl Articulation {
@@ -110,6 +112,6 @@ impl Articulation {
         let work = vec![LinkWork::default(); links.len()];
         use super::joint::JointModel::{Fixed, Prismatic, Revolute};
         let single = links.len() == 1 && matches!(links[0].model, Revolute | Prismatic | Fixed);
-        Self { links, nq, nv, q, v, work, applied: vec![0.0; nv], last_substeps: 0, velocity_dependent: !single, cached_qdd: None }
+        Self { links, nq, nv, q, v, work, applied: vec![0.0; nv], last_substeps: 0, velocity_dependent: !single, cached_qdd: None, cached_half: None }
     }
 }

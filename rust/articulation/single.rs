@@ -71,7 +71,7 @@ impl Single {
             return self.axis.dot(&f);
         }
         let (fe, te) = (Vec3::from(bodies.force[b]), Vec3::from(bodies.torque[b]));
-        let (sh, ch) = (0.5 * q).sin_cos();
+        let (sh, ch) = half_sin_cos(art, q);
         let (sn, cs) = (2.0 * sh * ch, ch * ch - sh * sh);
         let [c0, c1, c2] = self.moment;
         let mut m = c0 + c1 * cs + c2 * sn;
@@ -133,6 +133,12 @@ impl Single {
             vh = want;
         }
         let q1 = q + h * vh;
+        if !self.slide {
+            // One sine and cosine per substep: the evaluation below and the
+            // pose written after the last substep both take them from here.
+            let (sh, ch) = (0.5 * q1).sin_cos();
+            art.cached_half = Some((q1, sh, ch));
+        }
         let a1 = self.accel(art, q1, vh, None, gravity, bodies, terms);
         let v1 = if euler { vh } else { vh + 0.5 * h * a1 };
         art.q[0] = q1;
@@ -161,7 +167,7 @@ impl Single {
         } else {
             // One sine and cosine of the half angle give the quaternion and the
             // centre of mass (double-angle formulas).
-            let (sh, ch) = (0.5 * q).sin_cos();
+            let (sh, ch) = half_sin_cos(art, q);
             let (sn, cs) = (2.0 * sh * ch, ch * ch - sh * sh);
             let a = l.frames.axis_child * sh;
             let turn = crate::math::Quat::new(ch, a.x, a.y, a.z);
@@ -197,5 +203,13 @@ impl Single {
         let ic = rot * Mat3::from_diagonal(&Vec3::from(l.inertia)) * rot.transpose();
         let couple = ic * alpha + omega.cross(&(ic * omega)) - te;
         art.work[0].reaction = join(&(pose.x.cross(&f) + couple), &f);
+    }
+}
+
+/// `sin(q/2)`, `cos(q/2)`, from the cache when it holds this `q`.
+fn half_sin_cos(art: &Articulation, q: f64) -> (f64, f64) {
+    match art.cached_half {
+        Some((qc, s, c)) if qc == q => (s, c),
+        _ => (0.5 * q).sin_cos(),
     }
 }

@@ -84,12 +84,21 @@ HARD_CASES: dict[str, list[str]] = {
         "test_stacks::test_pyramid_of_210_boxes_stands_for_60_s",
     ],
     "mass ratio: a 1000x box on a light box, a chain carrying a 1000x bob": [
-        "test_stacks::test_heavy_box_on_a_light_box_stands",
-        "test_stacks::test_heavier_loads_on_light_boxes_stand",
+        "test_stacks::test_heavy_on_light_reports_true_loads",
+        "test_stacks::test_heavy_box_dropped_onto_a_light_box_comes_to_rest_on_it",
         "test_joints::test_chain_carrying_a_1000x_bob_stays_within_one_percent",
     ],
     "tunneling: r = 0.05 at up to 1000 m/s never passes a 1 cm wall with CCD": [
         "test_ccd::test_fast_sphere_with_ccd_never_passes_a_thin_wall",
+    ],
+    # Contacts and joints at default settings
+    "tall tower of equal boxes: top within 1 cm, no tilt or drift, still, loads within 1 %": [
+        "test_stacks::test_tall_tower_of_equal_boxes_stands_without_sag",
+    ],
+    "heavy on light, true loads (ratios up to 1e6)": ["test_stacks::test_heavy_on_light_reports_true_loads"],
+    "piles: six-deep ball pile <= 1 mm; 210-box pyramid moves < 1 cm": [
+        "test_stacks::test_ball_pile_six_layers_deep_penetrates_at_most_1_mm",
+        "test_stacks::test_pyramid_of_210_boxes_stands_for_60_s",
     ],
     # Position-based dynamics
     "XPBD: compliance 0 single constraint identical for 1 and 64 iterations": [

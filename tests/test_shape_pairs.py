@@ -246,13 +246,14 @@ def test_dropped_shape_rests_on_the_floor(floor, shape):
     scene = floor_scene(floor)
     body = place(scene, shape, lower=False, gap=0.1, dynamic=True)
     world = scene.build(dt=1.0 / 240.0, sleep=False)
-    deepest = 0.0
+    deepest, seen = 0.0, False
     for _ in range(480):
         world.step(1)
         d = world.contacts()["depth"]
         if len(d):
+            seen = True
             deepest = max(deepest, float(d.max()))
-    assert 0.0 < deepest <= SLOP
+    assert seen and deepest <= SLOP
     assert world.bodies.position[body, 2] > 0.0  # the centre of mass is above the floor
     assert np.linalg.norm(world.bodies.linear_velocity[body]) <= 1e-3  # at rest (1 mm/s)
 

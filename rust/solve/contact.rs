@@ -90,8 +90,6 @@ pub struct Point {
     pub point: Vec3,
     /// `1/K` with `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` (kg).
     pub normal_mass: f64,
-    /// The same with the lower body of a one-way support contact held (kg).
-    pub shock_mass: f64,
     /// Accumulated normal impulse of the current substep (N·s).
     pub normal_impulse: f64,
     /// Normal impulse summed over the step, for reporting (N·s).
@@ -125,9 +123,11 @@ pub struct Constraint {
     pub manifold: u32,
     /// Whether its points started this step without impulses to warm start from.
     pub fresh: bool,
-    /// Shock propagation (see `super::shock`): which body a one-way contact holds,
-    /// 1 or 2; 0 for a contact solved both ways.
-    pub frozen: u8,
+    /// Support contacts (see `super::support`): which body is below, 1 or 2; 0
+    /// for a contact solved both ways.
+    pub lower: u8,
+    /// The support group of its upper body (when `lower != 0`).
+    pub group: u32,
 }
 
 /// The contact solver's state for one step.
@@ -138,6 +138,9 @@ pub struct ContactSolver {
     pub patches: Vec<Patch>,
     pub points: Vec<Point>,
     pub bodies: Vec<SolverBody>,
+    /// Constraints solved both ways, and the support blocks.
+    pub(crate) ordinary: Vec<u32>,
+    pub(crate) support: super::support::Support,
     /// Per world body: its solver index this step (0 when not in the solve).
     slot: Vec<u32>,
     /// Per solver body: pose at the step start.
@@ -218,7 +221,7 @@ impl ContactSolver {
         }
         let g = gravity.norm();
         let up = if g > 0.0 { -gravity / g } else { Vec3::zeros() };
-        self.plan_shock(&up, g);
+        self.plan_support(&up, g);
     }
 
     /// What the constraints of a collider pair share, at the bodies' current poses.
@@ -292,7 +295,8 @@ impl ContactSolver {
             slot: ctx.slot,
             manifold: index,
             fresh: !warm || manifold.points.iter().all(|tp| tp.data.normal_impulse == 0.0),
-            frozen: 0,
+            lower: 0,
+            group: 0,
         };
         let mut patch = Patch::new(&constraint, &self.points[start as usize..], &self.bodies);
         if warm {
@@ -332,8 +336,10 @@ impl ContactSolver {
             p.r2 = p.anchor2 + shift - dp2;
             normal_mass(p, b1, b2, &c.normal);
         }
-        self.shock_masses(ci);
         self.refresh_patch(ci);
+        if c.lower != 0 {
+            self.support.touch(c.group);
+        }
     }
 
     /// The patch of constraint `ci` at its points' current arms, keeping its
@@ -375,7 +381,7 @@ impl ContactSolver {
                     p.total_normal += p.normal_impulse;
                 }
                 settled += p.normal_impulse;
-                pair.apply_normal_one_way(c, p, p.normal_impulse);
+                pair.apply_normal(c, p, p.normal_impulse);
             }
             let f = &mut self.patches[ci];
             f.settled = settled;

@@ -17,7 +17,7 @@ use crate::math::Vec3;
 
 /// Slip speed (m/s) below which a sliding patch's friction keeps the direction of
 /// the impulse that would stop it: the direction of a slower slip is noise.
-const SLIP_EPS: f64 = 1e-3;
+pub(crate) const SLIP_EPS: f64 = 1e-3;
 
 /// The friction of one manifold.
 #[derive(Clone, Copy, Debug, Default)]
@@ -57,21 +57,9 @@ impl Patch {
     }
 
     /// Brings the arms, effective masses and lever up to the points' current arms,
-    /// keeping the impulses and regime. The held lower body of a one-way contact
-    /// (see `super::shock`) counts as immovable.
+    /// keeping the impulses and regime.
     pub fn set_geometry(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
-        let held;
-        let (a1, a2) = match c.frozen {
-            1 => {
-                held = SolverBody::default();
-                (&held, &bodies[c.s2 as usize])
-            }
-            2 => {
-                held = SolverBody::default();
-                (&bodies[c.s1 as usize], &held)
-            }
-            _ => (&bodies[c.s1 as usize], &bodies[c.s2 as usize]),
-        };
+        let (a1, a2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
         let f = self;
         let n = points.len() as f64;
         let r1 = points.iter().map(|p| p.r1).sum::<Vec3>() / n;
@@ -83,23 +71,22 @@ impl Patch {
             f.irt1[k] = a1.inv_i * f.rt1[k];
             f.irt2[k] = a2.inv_i * f.rt2[k];
         }
-        let m = a1.inv_m + a2.inv_m;
-        let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
-        let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
-        let det = a * cc - b * b;
-        f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
         // A patch of one point (a ball, an edge touching a face) has no lever for
         // a twist: no torsional friction, and nothing to compute for it.
         if f.radius > 0.0 {
             f.in1 = a1.inv_i * c.normal;
             f.in2 = a2.inv_i * c.normal;
-            let kt = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
-            f.twist_mass = if kt > 0.0 { 1.0 / kt } else { 0.0 };
         } else {
             f.in1 = Vec3::zeros();
             f.in2 = Vec3::zeros();
-            f.twist_mass = 0.0;
         }
+        let m = a1.inv_m + a2.inv_m;
+        let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
+        let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
+        let det = a * cc - b * b;
+        f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
+        let kt = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
+        f.twist_mass = if kt > 0.0 && f.radius > 0.0 { 1.0 / kt } else { 0.0 };
     }
 
     /// The tangential impulse after one solve, in the cone of normal impulse `jn`,
@@ -131,30 +118,40 @@ impl Patch {
 }
 
 impl ContactSolver {
+    /// One friction pass over the patches solved both ways (support contacts rub
+    /// in their blocks, see `super::support`).
     pub fn solve_friction(&mut self) {
-        for (ci, c) in self.constraints.iter().enumerate() {
-            if c.static_friction == 0.0 {
-                continue;
-            }
-            let points = &self.points[c.start as usize..(c.start + c.len) as usize];
-            let f = &mut self.patches[ci];
-            let jn: f64 = points.iter().map(|p| p.normal_impulse).sum();
-            if jn == 0.0 && f.impulse == [0.0; 2] && f.twist == 0.0 {
-                continue;
-            }
-            let mut pair = Pair::load(&self.bodies, c);
-            let l = f.cone(c, pair.patch_velocity(c, f), jn);
-            let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
-            f.impulse = l;
-            pair.apply_patch(c, f, d);
-            if f.radius > 0.0 {
-                let mu = if f.sliding { c.friction } else { c.static_friction };
-                let limit = mu * jn.max(f.settled) * f.radius;
-                let twist = (f.twist - f.twist_mass * pair.twist_velocity(c)).clamp(-limit, limit);
-                pair.apply_twist(f, twist - f.twist);
-                f.twist = twist;
-            }
-            pair.store(&mut self.bodies, c);
+        let (cs, points, patches, bodies) = (&self.constraints, &self.points, &mut self.patches, &mut self.bodies);
+        for &ci in &self.ordinary {
+            rub(&cs[ci as usize], points, &mut patches[ci as usize], bodies);
         }
     }
+}
+
+/// One friction solve of the patch of constraint `c`.
+#[inline(always)]
+fn rub(c: &Constraint, points: &[Point], f: &mut Patch, bodies: &mut [SolverBody]) {
+    if c.static_friction == 0.0 {
+        return;
+    }
+    let points = &points[c.start as usize..(c.start + c.len) as usize];
+    let jn: f64 = points.iter().map(|p| p.normal_impulse).sum();
+    if jn == 0.0 && f.impulse == [0.0; 2] && f.twist == 0.0 {
+        return;
+    }
+    let mut pair = Pair::load(bodies, c);
+    let l = f.cone(c, pair.patch_velocity(c, f), jn);
+    let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
+    f.impulse = l;
+    let mut dt = 0.0;
+    if f.radius > 0.0 {
+        let mu = if f.sliding { c.friction } else { c.static_friction };
+        let limit = mu * jn.max(f.settled) * f.radius;
+        let twist = (f.twist - f.twist_mass * pair.twist_velocity(c)).clamp(-limit, limit);
+        dt = twist - f.twist;
+        f.twist = twist;
+    }
+    pair.apply_patch(c, f, d);
+    pair.apply_twist(f, dt);
+    pair.store(bodies, c);
 }

@@ -2,12 +2,14 @@
 //! soft constraints with substeps and relaxation), restitution by impacts, Coulomb
 //! friction on a true cone, islands and sleeping.
 
+pub mod block;
 pub mod contact;
 pub mod friction;
 pub mod impacts;
 pub mod impulse;
 pub mod islands;
-pub mod shock;
+pub mod position;
+pub mod support;
 pub mod soft;
 pub mod solver_body;
 

@@ -28,6 +28,8 @@ pub struct SolverBody {
     pub dp_ref: Vec3,
     pub dq_ref: Quat,
     pub moved: bool,
+    /// Moved by the position pass since its pose was gathered.
+    pub pushed: bool,
 }
 
 impl Default for SolverBody {
@@ -45,6 +47,7 @@ impl Default for SolverBody {
             dp_ref: Vec3::zeros(),
             dq_ref: Quat::identity(),
             moved: false,
+            pushed: false,
         }
     }
 }
@@ -97,20 +100,6 @@ impl Pair {
         self.w2 += p.irn2 * j;
     }
 
-    /// A normal impulse `j` on both bodies, or on the upper one only if the
-    /// contact is one way (its lower body held, see `super::shock`).
-    #[inline(always)]
-    pub fn apply_normal_one_way(&mut self, c: &Constraint, p: &Point, j: f64) {
-        if c.frozen != 1 {
-            self.v1 -= c.normal * (j * self.m1);
-            self.w1 -= p.irn1 * j;
-        }
-        if c.frozen != 2 {
-            self.v2 += c.normal * (j * self.m2);
-            self.w2 += p.irn2 * j;
-        }
-    }
-
     /// Tangential velocity of body 2 relative to body 1 at a patch's centre (m/s).
     #[inline(always)]
     pub fn patch_velocity(&self, c: &Constraint, f: &Patch) -> [f64; 2] {
@@ -128,19 +117,13 @@ impl Pair {
     }
 
     /// A tangential impulse `d` (N·s, in the `t1, t2` basis) at a patch's centre.
-    /// A one-way contact's held lower body takes none of it (its patch's arms for
-    /// that body are zero, see [`Patch::set_geometry`]).
     #[inline(always)]
     pub fn apply_patch(&mut self, c: &Constraint, f: &Patch, d: [f64; 2]) {
         let imp = c.t1 * d[0] + c.t2 * d[1];
-        if c.frozen != 1 {
-            self.v1 -= imp * self.m1;
-            self.w1 -= f.irt1[0] * d[0] + f.irt1[1] * d[1];
-        }
-        if c.frozen != 2 {
-            self.v2 += imp * self.m2;
-            self.w2 += f.irt2[0] * d[0] + f.irt2[1] * d[1];
-        }
+        self.v1 -= imp * self.m1;
+        self.w1 -= f.irt1[0] * d[0] + f.irt1[1] * d[1];
+        self.v2 += imp * self.m2;
+        self.w2 += f.irt2[0] * d[0] + f.irt2[1] * d[1];
     }
 
     /// An angular impulse `j` (N·m·s) about the normal.

@@ -108,7 +108,12 @@ impl World {
             }
             StageKind::NarrowPhase => self.narrow_phase(h),
             StageKind::Gather { .. } => self.with_solver(|s, b| s.gather(b)),
-            StageKind::Scatter { .. } => self.with_solver(|s, b| s.scatter(b)),
+            StageKind::Scatter { relax } => self.with_solver(|s, b| {
+                s.scatter(b);
+                if relax {
+                    s.write_poses(b)
+                }
+            }),
             StageKind::Impacts => {
                 if let Some(c) = self.collision.as_mut() {
                     c.solver.impacts(&mut self.bodies, h, src, &c.colliders);
@@ -116,7 +121,12 @@ impl World {
             }
             StageKind::WarmStart => self.with_solver(|s, _| s.warm_start()),
             StageKind::Friction { .. } => self.with_solver(|s, _| s.solve_friction()),
-            StageKind::Normal { relax } => self.with_solver(|s, _| s.solve_normal(relax)),
+            StageKind::Normal { relax } => self.with_solver(|s, _| {
+                if relax {
+                    s.correct_positions(h);
+                }
+                s.solve_normal(relax)
+            }),
             StageKind::Ccd => {
                 if let Some(c) = self.collision.as_mut() {
                     c.ccd_stage(&mut self.bodies);

@@ -1,0 +1,315 @@
+//! Support sweeps: contacts that carry weight are solved in the order the load
+//! travels, so a stack of any height and any mass ratio is solved exactly in one
+//! pass.
+//!
+//! A Gauss–Seidel sweep over a column moves momentum one contact per pass, and
+//! under a heavy body on a light one only a light body's worth of it: the column
+//! sags until its warm start catches up (a soft contact sags by its load, a rigid
+//! one overshoots and bounces). Here every support contact has a lower and an
+//! upper body: its normal is within [`SUPPORT_ANGLE`] of the vertical, its two
+//! bodies sit at different heights of the support graph (a breadth-first walk
+//! from the fixed and kinematic bodies), and it is a face (three points or more)
+//! or carries a body more than [`MASS_RATIO`] times heavier than the one under
+//! it. The support contacts of one upper body form its block
+//! ([`super::block`]): all their normal, friction and twist rows, solved
+//! together and exactly with the lower bodies held. Each pass visits the blocks
+//!
+//! 1. bottom up: the lower bodies have just been stopped on their own supports,
+//!    so the upper one is stopped on them; the reaction is kept back as a debt;
+//! 2. top down: again (the upper body has meanwhile received the reactions of
+//!    what rests on it), then the debt is paid to the lower bodies, whose own
+//!    blocks come next and pass it on to the ground.
+//!
+//! After the two sweeps every body of a column is at rest on the one below and
+//! each contact carries the weight above it, whatever the masses: a direct solve
+//! of a tree, and of a pyramid, whose blocks are visited a level at a time. Where
+//! a lower body is not held as assumed (it tips, slides, rests on something that
+//! gives), the next pass continues from there: the impulses act on both bodies,
+//! so any fixed point of the passes is the solution of the contact problem
+//! itself.
+//! Balls side by side, walls and contacts without gravity are solved both ways
+//! by Gauss–Seidel.
+
+use super::block::{Block, Row, RowKind, Target};
+use super::contact::ContactSolver;
+use super::impulse::Rule;
+use super::solver_body::Gap;
+use crate::math::Vec3;
+
+/// Cosine of the largest angle (60°) between a contact normal and the vertical
+/// for the contact to count as support: balls resting in the hollows of a square
+/// layer touch at 45°, those of a close-packed pile at 35°.
+const SUPPORT_ANGLE: f64 = 0.5;
+
+/// Mass ratio (upper over lower) above which a contact of fewer than three
+/// points is a support contact: a Gauss–Seidel pass moves a light body's worth of
+/// momentum per pass through a light body under a heavy one.
+const MASS_RATIO: f64 = 4.0;
+
+/// The support blocks of a step, bottom up, and the sweeps' scratch space.
+#[derive(Default)]
+pub struct Support {
+    pub blocks: Vec<Block>,
+    /// Constraint indices of the blocks' faces, block after block.
+    pub faces: Vec<u32>,
+    pub rows: Vec<Row>,
+    /// `K` and its factor, block after block (`m²` numbers each).
+    pub k: Vec<f64>,
+    pub factor: Vec<f64>,
+    /// Per row: impulse kept back for the lower body, and the impulse before
+    /// the sweeps of a pass.
+    pub debt: Vec<f64>,
+    pub start_lambda: Vec<f64>,
+    /// Per solver body: velocities before the sweeps of a pass.
+    pub start_velocity: Vec<(Vec3, Vec3)>,
+}
+
+impl Support {
+    /// Marks block `g` for reassembly (a body of it moved).
+    pub fn touch(&mut self, g: u32) {
+        if let Some(b) = self.blocks.get_mut(g as usize) {
+            b.dirty = true;
+        }
+    }
+}
+
+impl ContactSolver {
+    /// Finds the support contacts, their lower sides and the blocks.
+    pub(crate) fn plan_support(&mut self, up: &Vec3, gravity: f64) {
+        self.ordinary.clear();
+        let s = &mut self.support;
+        s.blocks.clear();
+        s.faces.clear();
+        s.rows.clear();
+        s.k.clear();
+        s.factor.clear();
+        if gravity <= 0.0 || self.constraints.is_empty() {
+            self.ordinary.extend(0..self.constraints.len() as u32);
+            return;
+        }
+        let level = self.levels(up);
+        let mut supports: Vec<(u32, u32, u32)> = Vec::new();
+        for ci in 0..self.constraints.len() {
+            let lower = self.lower_side(ci, up, &level);
+            self.constraints[ci].lower = lower;
+            if lower == 0 {
+                self.ordinary.push(ci as u32);
+            } else {
+                let upper = self.constraints[ci].upper_body();
+                supports.push((level[upper as usize], upper, ci as u32));
+            }
+        }
+        // Bottom up; a body's faces together, in the narrow phase's order.
+        supports.sort_unstable();
+        let mut k = 0;
+        while k < supports.len() {
+            let (lvl, body, _) = supports[k];
+            let first = self.support.faces.len() as u32;
+            while k < supports.len() && supports[k].1 == body {
+                let ci = supports[k].2;
+                self.constraints[ci as usize].group = self.support.blocks.len() as u32;
+                self.support.faces.push(ci);
+                k += 1;
+            }
+            let faces = (first, self.support.faces.len() as u32);
+            self.support.blocks.push(Block { body, level: lvl, faces, ..Default::default() });
+        }
+        self.assemble_blocks(true);
+    }
+
+    /// Which side of constraint `ci` is the lower body of a support contact (0:
+    /// none).
+    fn lower_side(&self, ci: usize, up: &Vec3, level: &[u32]) -> u8 {
+        let c = &self.constraints[ci];
+        let rising = c.normal.dot(up);
+        let (l1, l2) = (level[c.s1 as usize], level[c.s2 as usize]);
+        let lower = if rising >= SUPPORT_ANGLE && l1 < l2 {
+            1
+        } else if rising <= -SUPPORT_ANGLE && l2 < l1 {
+            2
+        } else {
+            return 0;
+        };
+        let (lo, hi) = if lower == 1 { (c.s1, c.s2) } else { (c.s2, c.s1) };
+        let (lo, hi) = (&self.bodies[lo as usize], &self.bodies[hi as usize]);
+        let heavy = lo.dynamic && hi.inv_m * MASS_RATIO < lo.inv_m;
+        if c.len >= 3 || heavy {
+            lower
+        } else {
+            0
+        }
+    }
+
+    /// Height of each solver body in the support graph: breadth first from the
+    /// fixed and kinematic bodies over the contacts whose normal is within
+    /// [`SUPPORT_ANGLE`] of the vertical (unreached: `u32::MAX`).
+    fn levels(&self, up: &Vec3) -> Vec<u32> {
+        let n = self.bodies.len();
+        // The support graph as adjacency lists in one array (CSR).
+        let supports = || self.constraints.iter().filter(|c| c.normal.dot(up).abs() >= SUPPORT_ANGLE);
+        let mut start = vec![0u32; n + 1];
+        for c in supports() {
+            start[c.s1 as usize + 1] += 1;
+            start[c.s2 as usize + 1] += 1;
+        }
+        for k in 0..n {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut next = vec![0u32; start[n] as usize];
+        for c in supports() {
+            for (a, b) in [(c.s1, c.s2), (c.s2, c.s1)] {
+                next[fill[a as usize] as usize] = b;
+                fill[a as usize] += 1;
+            }
+        }
+        let mut level = vec![u32::MAX; n];
+        let mut queue: std::collections::VecDeque<usize> = (0..n).filter(|&k| !self.bodies[k].dynamic).collect();
+        queue.iter().for_each(|&k| level[k] = 0);
+        while let Some(a) = queue.pop_front() {
+            for &b in &next[start[a] as usize..start[a + 1] as usize] {
+                if level[b as usize] == u32::MAX {
+                    level[b as usize] = level[a] + 1;
+                    queue.push_back(b as usize);
+                }
+            }
+        }
+        level
+    }
+
+    /// The two sweeps over the blocks, then the fraction of their change that
+    /// leaves the least violation (see [`Self::sweep_step`]).
+    pub(crate) fn sweep_supports(&mut self, rule: &Rule) {
+        if self.support.blocks.is_empty() {
+            return;
+        }
+        self.assemble_blocks(false);
+        let s = &mut self.support;
+        s.debt.clear();
+        s.debt.resize(s.rows.len(), 0.0);
+        s.start_velocity.clear();
+        s.start_velocity.extend(self.bodies.iter().map(|b| (b.v, b.w)));
+        s.start_lambda.clear();
+        for r in &s.rows {
+            s.start_lambda.push(r.lambda(&self.points, &self.patches));
+        }
+        let n = self.support.blocks.len();
+        let mut targets = Vec::with_capacity(self.support.rows.len());
+        for k in 0..n {
+            let t = self.velocity_targets(k, rule);
+            self.solve_block(k, &t);
+            targets.extend(t);
+        }
+        // Top down a level at a time: every block of a level is solved on its
+        // supports as the bottom-up sweep left them, then their debts are paid (a
+        // box resting on two others would otherwise find one of them already
+        // pushed by a neighbour's load).
+        let mut end = n;
+        while end > 0 {
+            let level = self.support.blocks[end - 1].level;
+            let mut start = end;
+            while start > 0 && self.support.blocks[start - 1].level == level {
+                start -= 1;
+            }
+            for k in (start..end).rev() {
+                let targets = self.velocity_targets(k, rule);
+                self.solve_block(k, &targets);
+            }
+            for k in start..end {
+                self.pay(k);
+            }
+            end = start;
+        }
+        let step = self.sweep_step(&targets);
+        if step < 1.0 {
+            self.shorten_sweep(step);
+        }
+    }
+
+    /// The fraction of the sweeps' change to keep: the one that leaves the least
+    /// violation `Σ (row velocity − target)²` over the rows that hold (pushing
+    /// points, sticking patches), quadratic in the fraction. It is 1 where the
+    /// sweeps solved the blocks exactly (a column, a pyramid at rest); less where
+    /// a lower body was not held as the sweeps assumed and they overshot, which
+    /// would otherwise feed on itself from pass to pass.
+    fn sweep_step(&self, targets: &[Target]) -> f64 {
+        let s = &self.support;
+        let (mut along, mut square) = (0.0, 0.0);
+        for (ri, r) in s.rows.iter().enumerate() {
+            let target = match targets[ri] {
+                Target::AtLeast(t) | Target::Friction(t) | Target::Free(t) => t,
+                Target::Skip => continue,
+            };
+            let upper = s.blocks[r.block as usize].body as usize;
+            let v0 = r.velocity(&s.start_velocity[upper], &s.start_velocity[r.lower as usize]) - target;
+            let (bu, bl) = (&self.bodies[upper], &self.bodies[r.lower as usize]);
+            let v1 = r.velocity(&(bu.v, bu.w), &(bl.v, bl.w)) - target;
+            let holds = match r.kind {
+                RowKind::Normal(_) => r.lambda(&self.points, &self.patches) > 0.0 || v0 < 0.0 || v1 < 0.0,
+                _ => !self.patches[r.face as usize].sliding,
+            };
+            if holds {
+                along += v0 * (v1 - v0);
+                square += (v1 - v0) * (v1 - v0);
+            }
+        }
+        if square <= 0.0 {
+            return 1.0;
+        }
+        (-along / square).clamp(0.0, 1.0)
+    }
+
+    /// Keeps `step` of the sweeps' change in impulses and velocities.
+    fn shorten_sweep(&mut self, step: f64) {
+        let s = &self.support;
+        for (b, &(v, w)) in self.bodies.iter_mut().zip(&s.start_velocity) {
+            b.v = v + (b.v - v) * step;
+            b.w = w + (b.w - w) * step;
+        }
+        for (ri, r) in s.rows.iter().enumerate() {
+            let l0 = s.start_lambda[ri];
+            let l = r.lambda(&self.points, &self.patches);
+            r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
+        }
+    }
+
+    /// Targets of the rows of block `k` for a velocity pass: a gap may close
+    /// within the substep; friction and twist stop the slip.
+    fn velocity_targets(&self, k: usize, rule: &Rule) -> Vec<Target> {
+        let b = &self.support.blocks[k];
+        let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
+        rows.iter()
+            .map(|r| match r.kind {
+                RowKind::Normal(pi) => {
+                    let c = &self.constraints[r.face as usize];
+                    let s = rule.effective(Gap::new(&self.bodies, c).separation(&self.points[pi as usize]));
+                    if rule.relax && s > 0.0 {
+                        // After the drift a gap is the next substep's business:
+                        // closing it here would brake a body that has not arrived.
+                        Target::Skip
+                    } else {
+                        Target::AtLeast(-rule.bias(s))
+                    }
+                }
+                _ => Target::Friction(0.0),
+            })
+            .collect()
+    }
+
+    /// Applies the impulses block `k` kept back to its lower bodies.
+    fn pay(&mut self, k: usize) {
+        let b = &self.support.blocks[k];
+        for ri in b.rows.0 as usize..b.rows.1 as usize {
+            let d = std::mem::take(&mut self.support.debt[ri]);
+            if d == 0.0 {
+                continue;
+            }
+            let r = &self.support.rows[ri];
+            let lo = &mut self.bodies[r.lower as usize];
+            if lo.dynamic {
+                lo.v += r.jl[0] * (d * lo.inv_m);
+                lo.w += lo.inv_i * (r.jl[1] * d);
+            }
+        }
+    }
+}

@@ -5,6 +5,7 @@
 //! it and compiles a [`world::World`]: struct-of-arrays state plus the pipeline of
 //! stages that this scene needs, and nothing else.
 
+pub mod articulation;
 pub mod body;
 pub mod collide;
 pub mod error;

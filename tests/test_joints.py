@@ -51,7 +51,7 @@ def pendulum_period(substeps: int) -> tuple[float, float]:
     scene = rr.Scene(gravity=(0, 0, -G))
     ball = scene.add_body(rr.Sphere(RADIUS), mass=MASS, position=(L * math.sin(THETA0), 0, -L * math.cos(THETA0)))
     scene.add_joint("spherical", ball, None, anchor=(0, 0, 0))
-    world = scene.build(dt=FRAME, substeps=substeps)
+    world = scene.build(articulations=False, dt=FRAME, substeps=substeps)
     # Physical pendulum: I about the pivot, exact large-amplitude period 4 K(k²)/ω0.
     i_pivot = 0.4 * MASS * RADIUS**2 + MASS * L**2
     exact = 4 * ellipk(math.sin(THETA0 / 2) ** 2) * math.sqrt(i_pivot / (MASS * G * L))
@@ -103,7 +103,7 @@ def heavy_chain(substeps: int, angle: float, seconds: float) -> float:
     pairs += [(bob, links[-1], d * link * n)]
     for a, b, p in pairs:
         scene.add_joint("spherical", a, b, anchor=p)
-    world = scene.build(dt=FRAME, substeps=substeps)
+    world = scene.build(articulations=False, dt=FRAME, substeps=substeps)
     joints = [(a, b, local_anchor(world, a, p), local_anchor(world, b, p)) for a, b, p in pairs]
     worst = 0.0
     for _ in range(int(seconds / FRAME)):
@@ -141,7 +141,7 @@ def test_hinge_limit_is_respected(side: float) -> None:
     scene = rr.Scene(gravity=(0, 0, -G))
     bar = scene.add_body(rr.Box((half, 0.02, 0.05)), mass=1.0, position=(side * half, 0, 0), collision_mask=0)
     scene.add_joint("hinge", bar, None, anchor=(0, 0, 0), axis=(0, 1, 0), limits=(-0.5, 0.5))
-    world = scene.build(dt=FRAME, substeps=16)
+    world = scene.build(articulations=False, dt=FRAME, substeps=16)
     worst = 0.0
     for _ in range(180):
         world.step()
@@ -169,7 +169,7 @@ def double_pendulum_energy(substeps: int) -> tuple[float, float]:
     lower = scene.add_body(rr.Box((0.02, 0.02, length / 2)), mass=1.0, position=d * length * 1.5, orientation=q, collision_mask=0)
     scene.add_joint("hinge", upper, None, anchor=(0, 0, 0), axis=(0, 1, 0))
     scene.add_joint("hinge", lower, upper, anchor=d * length, axis=(0, 1, 0))
-    world = scene.build(dt=FRAME, substeps=substeps)
+    world = scene.build(articulations=False, dt=FRAME, substeps=substeps)
     e0 = world.kinetic_energy() + world.potential_energy()
     rest = -1.0 * G * (length / 2) - 1.0 * G * (1.5 * length)
     energies = []
@@ -215,7 +215,7 @@ def top_precession(substeps: int, seconds: float = 2.0, integrator: str = "stran
     )
     scene.add_joint("spherical", top, None, anchor=(0, 0, 0))
     dt = 1 / 240
-    world = scene.build(dt=dt, substeps=substeps, integrator=integrator)
+    world = scene.build(articulations=False, dt=dt, substeps=substeps, integrator=integrator)
     t, phi, tilt = [], [], []
     for _ in range(int(round(seconds / dt))):
         world.step()
@@ -254,7 +254,7 @@ def test_joint_force_reads_the_static_load() -> None:
     scene.add_joint("spherical", ball, None, anchor=(0, 0, 0))
     scene.add_joint("distance", lower, ball, anchor=(0, 0, -2), anchor_b=(0, 0, -1))
     scene.add_joint("fixed", bar, None, anchor=(5.0, 0, 0))
-    world = scene.build(dt=FRAME, substeps=10)
+    world = scene.build(articulations=False, dt=FRAME, substeps=10)
     world.step(120)
     forces, torques = world.joint_forces(), world.joint_torques()
     assert forces.shape == (3, 3) and torques.shape == (3, 3)
@@ -282,14 +282,14 @@ def test_joints_stage_only_with_joints_after_the_drift() -> None:
             scene.add_joint("distance", b, a, anchor=(0, 0, 1.5), anchor_b=(0, 0, 1))
         return scene
 
-    free = scene_of(False, False).build(dt=FRAME).stages
+    free = scene_of(False, False).build(articulations=False, dt=FRAME).stages
     assert "joints" not in free
-    assert scene_of(True, False).build(dt=FRAME).stages == ["forces", "translate", "rotate_isotropic", "joints", "forces"]
-    contact = scene_of(True, True).build(dt=FRAME).stages
-    assert "joints" not in scene_of(False, True).build(dt=FRAME).stages
+    assert scene_of(True, False).build(articulations=False, dt=FRAME).stages == ["forces", "translate", "rotate_isotropic", "joints", "forces"]
+    contact = scene_of(True, True).build(articulations=False, dt=FRAME).stages
+    assert "joints" not in scene_of(False, True).build(articulations=False, dt=FRAME).stages
     k = contact.index("joints")
     assert contact[k - 1] == "rotate_isotropic" and contact[k + 1] == "contact_relax", contact
-    rk4 = scene_of(True, False).build(dt=FRAME, integrator="rk4").stages
+    rk4 = scene_of(True, False).build(articulations=False, dt=FRAME, integrator="rk4").stages
     assert rk4 == ["rk4", "joints"]
 
 
@@ -304,7 +304,7 @@ def test_jointed_bodies_do_not_collide() -> None:
         if third:
             scene.add_body(rr.Box((0.5, 0.5, 0.5)), density=100.0, position=(5, 0, 0))
         scene.add_joint("fixed", b, a, anchor=(0.3, 0, 0))
-        return scene.build(dt=FRAME)
+        return scene.build(articulations=False, dt=FRAME)
 
     alone = build(False)
     assert "broad_phase" not in alone.stages
@@ -328,7 +328,7 @@ def test_every_kind_with_every_integrator_holds(kind: str, integrator: str) -> N
     low = scene.add_body(rr.Box((0.05, 0.1, 0.15)), density=500.0, position=(0.1, 0, -0.8), angular_velocity=(1.0, 0.5, 0))
     scene.add_joint("spherical", top, None, anchor=(0, 0, 0))
     scene.add_joint(kind, low, top, anchor=(0.1, 0, -0.6), axis=(1, 1, 0))
-    world = scene.build(dt=FRAME, integrator=integrator, substeps=8)
+    world = scene.build(articulations=False, dt=FRAME, integrator=integrator, substeps=8)
     joints = [(top, None, local_anchor(world, top, (0, 0, 0)), np.zeros(3))]
     joints.append((low, top, local_anchor(world, low, (0.1, 0, -0.6)), local_anchor(world, top, (0.1, 0, -0.6))))
     world.step(60)
@@ -396,7 +396,7 @@ def test_bad_joint_input(change: dict, exc: type, words: list[str]) -> None:
     assert scene.add_joint("spherical", a, b, anchor=(0.5, 0, 0)) == 0
     clean, a2, b2, _ = two_body_scene()
     clean.add_joint("spherical", a2, b2, anchor=(0.5, 0, 0))
-    w1, w2 = scene.build(dt=FRAME, substeps=4), clean.build(dt=FRAME, substeps=4)
+    w1, w2 = scene.build(articulations=False, dt=FRAME, substeps=4), clean.build(articulations=False, dt=FRAME, substeps=4)
     w1.step(30)
     w2.step(30)
     assert np.array_equal(w1.bodies.position, w2.bodies.position)
@@ -408,7 +408,7 @@ def test_joint_indices_and_no_joint_reads() -> None:
     assert scene.add_joint("spherical", a, None, anchor=(0, 0, 1)) == 0
     assert scene.add_joint("hinge", b, a, anchor=(0.5, 0, 0), axis=(0, 1, 0)) == 1
     assert scene.joint_count == 2
-    empty = rr.Scene().build(dt=FRAME)
+    empty = rr.Scene().build(articulations=False, dt=FRAME)
     assert empty.joint_forces().shape == (0, 3) and empty.joint_torques().shape == (0, 3)
 
 
@@ -420,7 +420,7 @@ def test_a_resting_jointed_body_sleeps_and_keeps_its_load() -> None:
     ball = scene.add_body(rr.Sphere(0.1), mass=2.0, position=(0, 0, 1))
     scene.add_body(rr.Plane(), fixed=True)
     scene.add_joint("spherical", ball, None, anchor=(0, 0, 1.5))
-    world = scene.build(dt=FRAME)
+    world = scene.build(articulations=False, dt=FRAME)
     assert "sleep" in world.stages
     world.step(120)
     assert world.bodies.sleeping[ball]
@@ -447,7 +447,7 @@ def test_free_jointed_pair_keeps_its_momentum(kind: str) -> None:
             rr.Box((0.1, 0.15, 0.05)), mass=2.0, position=(0.5, 0.1, 0), linear_velocity=(-0.2, 0.4, 0), angular_velocity=(-1.0, 0.3, 0.7), collision_mask=0
         )
         scene.add_joint(kind, b, a, anchor=(0.25, 0.05, 0), axis=(0, 0, 1))
-        world = scene.build(dt=FRAME, substeps=substeps)
+        world = scene.build(articulations=False, dt=FRAME, substeps=substeps)
         world.step()
         p0, l0, e0 = world.linear_momentum(), world.angular_momentum(), world.kinetic_energy()
         worst_e = 0.0

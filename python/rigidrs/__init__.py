@@ -7,6 +7,7 @@ friends). SI units, z up, quaternions
 in (x, y, z, w) order. :func:`accuracy` runs the work-precision report.
 """
 from ._core import (
+    ARTICULATION_INTEGRATORS,
     INTEGRATORS,
     Bodies,
     Box,
@@ -15,6 +16,8 @@ from ._core import (
     Cone,
     ConvexHull,
     Cylinder,
+    Drive,
+    Joints,
     MassProperties,
     Particles,
     Plane,
@@ -33,6 +36,7 @@ from ._core import (
 from .work_precision import accuracy
 
 __all__ = [
+    "ARTICULATION_INTEGRATORS",
     "INTEGRATORS",
     "Bodies",
     "Box",
@@ -41,6 +45,8 @@ __all__ = [
     "Cone",
     "ConvexHull",
     "Cylinder",
+    "Drive",
+    "Joints",
     "MassProperties",
     "Particles",
     "Plane",

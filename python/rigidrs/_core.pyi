@@ -9,6 +9,7 @@ from typing_extensions import disjoint_base
 _F64: TypeAlias = npt.NDArray[np.float64]
 
 __all__ = [
+    "ARTICULATION_INTEGRATORS",
     "Bodies",
     "Box",
     "Capsule",
@@ -16,7 +17,9 @@ __all__ = [
     "Cone",
     "ConvexHull",
     "Cylinder",
+    "Drive",
     "INTEGRATORS",
+    "Joints",
     "MassProperties",
     "Particles",
     "Plane",
@@ -36,6 +39,9 @@ __all__ = [
 __version__: str
 INTEGRATORS: dict[str, int]
 """Integrator names accepted by ``Scene.build(integrator=...)`` -> nominal order."""
+ARTICULATION_INTEGRATORS: dict[str, int]
+"""Names accepted by ``Scene.build(articulation_integrator=...)`` -> nominal order:
+``"leapfrog"`` (2, default), ``"euler"`` (1), ``"rk4"`` (4)."""
 
 class RigidError(ValueError):
     """Invalid input; the message names the body or field."""
@@ -171,6 +177,38 @@ def polar_decomposition(
     Raises ``RigidError`` (a ``ValueError``) for a non-finite entry, naming ``M[k]``."""
 
 @final
+class Drive:
+    """A joint drive for ``Scene.add_joint(drive=...)``.
+
+    ``mode``: ``"position"`` (force ``stiffness·(target − q) − damping·q̇``) or
+    ``"velocity"`` (force ``damping·(target − q̇)``; stiffness must be 0).
+    ``target``: hinge angle (rad) or prismatic slide (m) for position drives,
+    their rates (rad/s, m/s) for velocity drives, default 0; for a spherical joint
+    a quaternion (x, y, z, w) of body a relative to its build pose (position) or an
+    angular velocity (3,) in a's frame (rad/s, velocity). ``stiffness`` N·m/rad or
+    N/m, ``damping`` N·m·s/rad or N·s/m (default 0 each), ``max_force`` N·m or N
+    (default inf: no limit). Solved implicitly: stable at any stiffness."""
+
+    def __new__(
+        cls,
+        mode: str = "position",
+        target: ArrayLike | None = None,
+        stiffness: float = 0.0,
+        damping: float = 0.0,
+        max_force: float = ...,
+    ) -> Drive: ...
+    @property
+    def mode(self) -> str: ...
+    @property
+    def target(self) -> list[float]: ...
+    @property
+    def stiffness(self) -> float: ...
+    @property
+    def damping(self) -> float: ...
+    @property
+    def max_force(self) -> float: ...
+
+@final
 class Scene:
     """A description of what to simulate. ``gravity`` (3,) m/s², default (0, 0, −9.81)."""
 
@@ -198,6 +236,7 @@ class Scene:
         ccd: bool = False,
         collision_group: int = 1,
         collision_mask: int = 4294967295,
+        name: str | None = None,
     ) -> int:
         """Adds a body; returns its index.
 
@@ -230,8 +269,26 @@ class Scene:
         angular_compliance: float = 0.0,
         limits: ArrayLike | None = None,
         rest_length: float | None = None,
+        name: str | None = None,
+        solver: str = "auto",
+        drive: Drive | None = None,
+        damping: float = 0.0,
+        armature: float = 0.0,
+        friction: float = 0.0,
+        cone_limit: float | None = None,
+        twist_limits: ArrayLike | None = None,
     ) -> int:
-        """Adds an XPBD joint between ``body_a`` and ``body_b`` (``None``: the world); returns its index.
+        """Adds a joint between ``body_a`` and ``body_b`` (``None``: the world); returns its index.
+
+        ``solver``: ``"auto"`` (default: the joint becomes part of an articulation in
+        reduced coordinates where the joint graph is a tree, else XPBD), ``"xpbd"`` or
+        ``"articulation"`` (an error at build if it cannot be one). Articulation-only
+        controls (hinge, prismatic, spherical): ``drive`` (a ``Drive``), ``damping``
+        (N·m·s/rad or N·s/m, default 0), ``armature`` (kg·m² or kg, added to the joint's
+        inertia, default 0), ``friction`` (Coulomb, N·m or N, default 0); for spherical
+        joints ``cone_limit`` (rad in (0, π]: largest swing of ``axis`` from its build
+        direction) and ``twist_limits`` (lo, hi) (rad, about ``axis``). ``name``: for
+        ``World.joints.names`` (unique; default none).
 
         ``kind``: ``"spherical"`` (anchors coincide), ``"hinge"`` (anchors coincide, axes
         aligned), ``"fixed"`` (anchors coincide, relative orientation kept), ``"prismatic"``
@@ -246,7 +303,8 @@ class Scene:
         (rad, −π ≤ lo ≤ hi ≤ π, 0 at build, right hand), prismatic slide (m), distance
         range (m, 0 ≤ lo ≤ hi; (0, L) is a rope); default none. ``rest_length`` (m,
         distance joints only, not with ``limits``), default the anchors' initial distance.
-        Jointed bodies never collide with each other. Raises ``RigidError`` naming the
+        Jointed bodies never collide with each other, nor do links of one articulation.
+        Raises ``RigidError`` naming the
         joint and field (unknown kind, bad index, the same body twice, no dynamic body,
         negative or non-finite compliance, zero axis, bad limits); the scene is then
         unchanged."""
@@ -269,6 +327,9 @@ class Scene:
         sleep_linear: float = 0.05,
         sleep_angular: float = 0.05,
         sleep_time: float = 0.5,
+        articulations: bool = True,
+        articulation_integrator: str = "leapfrog",
+        articulation_substeps: int | None = None,
     ) -> World:
         """Compiles the scene.
 
@@ -282,7 +343,13 @@ class Scene:
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
-        ``iterations`` is also the number of XPBD constraint passes per substep."""
+        ``iterations`` is also the number of XPBD constraint passes per substep; with XPBD
+        joints ``substeps`` defaults to at least half the joints of the largest jointed
+        system (at most 64). Articulations: ``articulations`` (default True; False keeps
+        every joint XPBD), ``articulation_integrator`` from ``ARTICULATION_INTEGRATORS``
+        (default "leapfrog"), ``articulation_substeps`` per step (default None: chosen
+        before every substep so that h·ω ≤ 0.25, ω the fastest joint rate or link tension
+        mode of the state)."""
     @property
     def particle_count(self) -> int:
         """Number of particles added so far."""
@@ -464,6 +531,9 @@ class Bodies:
 
     def __len__(self) -> int: ...
     @property
+    def names(self) -> list[str]:
+        """The bodies' names ("" where none was given)."""
+    @property
     def sleeping(self) -> npt.NDArray[np.bool_]:
         """(N,) whether each body is asleep; read-only."""
     @property
@@ -507,6 +577,31 @@ class Bodies:
         """(N, 3) spin angular momentum I ω, world (kg·m²/s); read-only, refreshed by each step."""
 
 @final
+class Joints:
+    """NumPy views of a world's joints, (J,) each; each view keeps the world alive."""
+
+    def __len__(self) -> int: ...
+    @property
+    def position(self) -> _F64:
+        """(J,) hinge angle (rad) or prismatic slide (m) of body a relative to body b since
+        build; NaN for other kinds. Read-only, refreshed by each step."""
+    @property
+    def velocity(self) -> _F64:
+        """(J,) its rate (rad/s or m/s); NaN for other kinds. Read-only."""
+    @property
+    def target(self) -> _F64:
+        """(J,) 1-dof drive targets (rad, m, rad/s or m/s by the drive's mode); writable,
+        read at the next step; ignored for joints without a 1-dof drive."""
+    @property
+    def force(self) -> _F64:
+        """(J,) generalized force of the joint's drive, damping, friction and limits on body a,
+        averaged over the last step (N·m or N); XPBD hinges and slides: the constraint couple
+        or force along the axis; NaN for joints without a single coordinate. Read-only."""
+    @property
+    def names(self) -> list[str]:
+        """The joints' names ("" where none was given)."""
+
+@final
 class Particles:
     """NumPy views of a world's particles; each view keeps the world alive."""
 
@@ -536,6 +631,17 @@ class World:
         view was given an invalid state; then nothing moves."""
     @property
     def bodies(self) -> Bodies: ...
+    @property
+    def joints(self) -> Joints:
+        """The joints, as NumPy views."""
+    def set_joint_positions(self, positions: ArrayLike, velocities: ArrayLike | None = None) -> None:
+        """Poses articulated hinges and slides: ``positions`` (J,) angle (rad) or slide (m) per
+        joint, NaN to keep one; ``velocities`` (J,) likewise (rad/s, m/s; default 0 for the
+        joints given a position). Raises ``RigidError`` naming the joint (XPBD, not 1-dof,
+        outside its limits, infinite) and leaves the world unchanged."""
+    def articulations(self) -> list[dict[str, Any]]:
+        """Per articulation: ``bodies`` (root first), ``joints`` (−1: a floating root's free
+        joint), ``dofs`` and the ``substeps`` its last step took."""
     @property
     def time(self) -> float:
         """Simulated time (s)."""

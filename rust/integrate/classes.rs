@@ -73,6 +73,20 @@ impl BodyLists {
         lists
     }
 
+    /// The lists without the bodies `excluded` marks (indexed by body).
+    pub fn without(mut self, excluded: &[bool]) -> Self {
+        if !excluded.iter().any(|&x| x) {
+            return self;
+        }
+        let keep = |i: u32| !excluded.get(i as usize).copied().unwrap_or(false);
+        self.dynamic.retain(|&i| keep(i));
+        self.isotropic.retain(|&i| keep(i));
+        self.symmetric.retain(|a| keep(a.index));
+        self.asymmetric.retain(|a| keep(a.index));
+        self.index();
+        self
+    }
+
     /// Splits the lists by `touching` (indexed by body) into `free` (false) and
     /// `touching` (true), reusing their allocations.
     pub fn partition(&self, touching: &[bool], free_lists: &mut BodyLists, touching_lists: &mut BodyLists) {

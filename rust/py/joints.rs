@@ -6,7 +6,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::convert::{float_array, non_negative_int, vec3};
+use crate::articulation::Control;
 use crate::error::Error;
+use crate::world::joints::{JointOptions, SolverChoice};
 use crate::xpbd::joints::{JointKind, JointSpec};
 
 /// The arguments of `Scene.add_joint`, as Python gave them.
@@ -21,6 +23,30 @@ pub struct JointArgs<'a, 'py> {
     pub angular_compliance: f64,
     pub limits: Option<&'a Bound<'py, PyAny>>,
     pub rest_length: Option<f64>,
+    pub name: Option<String>,
+    pub solver: &'a str,
+    pub drive: Option<crate::articulation::Drive>,
+    pub damping: f64,
+    pub armature: f64,
+    pub friction: f64,
+    pub cone_limit: Option<f64>,
+    pub twist_limits: Option<&'a Bound<'py, PyAny>>,
+}
+
+/// The options of `add_joint` besides the geometry.
+pub fn options(args: &JointArgs<'_, '_>, index: usize) -> PyResult<JointOptions> {
+    let field = |name: &str| format!("joint {index}: {name}");
+    let solver = SolverChoice::from_name(args.solver).map_err(|e| to_py(e, index))?;
+    let control = Control {
+        drive: args.drive.clone(),
+        damping: args.damping,
+        armature: args.armature,
+        friction: args.friction,
+        limits: None,
+        cone: args.cone_limit,
+        twist: args.twist_limits.map(|l| pair(l, &field("twist_limits"))).transpose()?,
+    };
+    Ok(JointOptions { name: args.name.clone(), solver, control })
 }
 
 /// A [`JointSpec`] from the arguments; errors name joint `index` and the field.

@@ -2,6 +2,8 @@
 //! boundary, and maps [`crate::Error`] to Python exceptions.
 
 mod convert;
+mod drive;
+mod joint_views;
 mod errors;
 mod joints;
 mod mass;
@@ -29,11 +31,18 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::PyWorld>()?;
     m.add_class::<views::PyBodies>()?;
     m.add_class::<particles::PyParticles>()?;
+    m.add_class::<drive::PyDrive>()?;
+    m.add_class::<joint_views::PyJoints>()?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;
     }
     m.add("INTEGRATORS", integrators)?;
+    let art = PyDict::new(py);
+    for i in crate::articulation::ArticulationIntegrator::ALL {
+        art.set_item(i.name(), i.order())?;
+    }
+    m.add("ARTICULATION_INTEGRATORS", art)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -4,12 +4,14 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use super::convert::{float_array, vec3, vec4};
+use super::drive::PyDrive;
 use super::errors::IntoPy;
 use super::joints::{self, JointArgs};
 use super::mass::PyMassProperties;
 use super::shapes::PyShape;
 use super::world::PyWorld;
 use crate::collide::{Filter, Material};
+use crate::articulation::{ArticulationIntegrator, ArticulationSettings};
 use crate::integrate::Integrator;
 use crate::solve::islands::SleepSettings;
 use crate::solve::SolverSettings;
@@ -61,7 +63,7 @@ impl PyScene {
     #[pyo3(signature = (shape=None, *, density=None, mass=None, inertia=None, mass_properties=None,
                         position=None, orientation=None, linear_velocity=None, angular_velocity=None,
                         fixed=false, kinematic=false, friction=0.5, static_friction=None, restitution=0.0,
-                        ccd=false, collision_group=1, collision_mask=4294967295))]
+                        ccd=false, collision_group=1, collision_mask=4294967295, name=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -82,6 +84,7 @@ impl PyScene {
         ccd: bool,
         collision_group: i64,
         collision_mask: i64,
+        name: Option<String>,
     ) -> PyResult<usize> {
         let index = self.inner.bodies().len();
         let field = |name: &str| format!("body {index}: {name}");
@@ -97,6 +100,7 @@ impl PyScene {
                 .py_err()?,
             filter: Filter { group: bits(collision_group, &field("collision_group"))?, mask: bits(collision_mask, &field("collision_mask"))? },
             ccd,
+            name,
             ..Default::default()
         };
         if let Some(i) = inertia {
@@ -119,7 +123,9 @@ impl PyScene {
 
     /// Adds a joint and returns its index. See the stub for the parameters.
     #[pyo3(signature = (kind, body_a, body_b=None, *, anchor=None, anchor_b=None, axis=None,
-                        compliance=0.0, angular_compliance=0.0, limits=None, rest_length=None))]
+                        compliance=0.0, angular_compliance=0.0, limits=None, rest_length=None,
+                        name=None, solver="auto", drive=None, damping=0.0, armature=0.0, friction=0.0,
+                        cone_limit=None, twist_limits=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_joint(
         &mut self,
@@ -133,10 +139,40 @@ impl PyScene {
         angular_compliance: f64,
         limits: Option<&Bound<'_, PyAny>>,
         rest_length: Option<f64>,
+        name: Option<String>,
+        solver: &str,
+        drive: Option<PyRef<'_, PyDrive>>,
+        damping: f64,
+        armature: f64,
+        friction: f64,
+        cone_limit: Option<f64>,
+        twist_limits: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let args = JointArgs { kind, body_a, body_b, anchor, anchor_b, axis, compliance, angular_compliance, limits, rest_length };
-        let spec = joints::spec(&args, self.inner.joints().len())?;
-        self.inner.add_joint(spec).py_err()
+        let drive = drive.map(|d| d.inner.clone());
+        let args = JointArgs {
+            kind,
+            body_a,
+            body_b,
+            anchor,
+            anchor_b,
+            axis,
+            compliance,
+            angular_compliance,
+            limits,
+            rest_length,
+            name,
+            solver,
+            drive,
+            damping,
+            armature,
+            friction,
+            cone_limit,
+            twist_limits,
+        };
+        let index = self.inner.joints().len();
+        let spec = joints::spec(&args, index)?;
+        let options = joints::options(&args, index)?;
+        self.inner.add_joint_with(spec, options).py_err()
     }
 
     /// Number of joints added.
@@ -149,7 +185,8 @@ impl PyScene {
     #[pyo3(signature = (dt, integrator="strang", substeps=None, iterations=1, *, sleep=true,
                         restitution_threshold=1.0, slop=0.005, contact_hertz=30.0,
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
-                        sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5))]
+                        sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5,
+                        articulations=true, articulation_integrator="leapfrog", articulation_substeps=None))]
     #[allow(clippy::too_many_arguments)]
     fn build(
         &self,
@@ -166,6 +203,9 @@ impl PyScene {
         sleep_linear: f64,
         sleep_angular: f64,
         sleep_time: f64,
+        articulations: bool,
+        articulation_integrator: &str,
+        articulation_substeps: Option<i64>,
     ) -> PyResult<PyWorld> {
         let mut s = Settings::new(dt);
         s.integrator = Integrator::from_name(integrator).py_err()?;
@@ -176,6 +216,11 @@ impl PyScene {
         s.iterations = small(iterations, "iterations")?;
         s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, slop };
         s.sleep = SleepSettings { enabled: sleep, linear: sleep_linear, angular: sleep_angular, time: sleep_time };
+        s.articulation = ArticulationSettings {
+            enabled: articulations,
+            integrator: ArticulationIntegrator::from_name(articulation_integrator).py_err()?,
+            substeps: articulation_substeps.map(|n| small(n, "articulation_substeps")).transpose()?,
+        };
         Ok(PyWorld::new(self.inner.build(&s).py_err()?))
     }
 }

@@ -99,6 +99,12 @@ impl PyBodies {
         self.world.bind(py).borrow().inner.bodies.len()
     }
 
+    /// The bodies' names (`add_body(name=...)`; "" where none was given).
+    #[getter]
+    fn names(&self, py: Python<'_>) -> Vec<String> {
+        self.world.bind(py).borrow().inner.body_names.clone()
+    }
+
     /// (N,) whether each body is asleep; read-only.
     #[getter]
     fn sleeping<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -50,6 +50,40 @@ impl PyWorld {
         PyBodies { world: slf.unbind() }
     }
 
+    /// The joints, as NumPy views (position, velocity, target, force, names).
+    #[getter]
+    fn joints(slf: Bound<'_, Self>) -> super::joint_views::PyJoints {
+        super::joint_views::PyJoints { world: slf.unbind() }
+    }
+
+    /// Poses articulated hinges and slides by their coordinates: `positions`
+    /// (J,) angle (rad) or slide (m) per joint, NaN to keep a joint as it is;
+    /// `velocities` (J,) likewise (rad/s, m/s), default: 0 for every joint given
+    /// a position. Raises naming the joint (not articulated, not 1-dof, outside
+    /// its limits, not finite) and leaves the world unchanged.
+    #[pyo3(signature = (positions, velocities=None))]
+    fn set_joint_positions(&mut self, positions: &Bound<'_, PyAny>, velocities: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let n = self.inner.joint_position.len();
+        let q = super::convert::scalar_or_vector(positions, "positions", n)?;
+        let v = velocities.map(|v| super::convert::scalar_or_vector(v, "velocities", n)).transpose()?;
+        self.inner.set_joint_positions(&q, v.as_deref()).py_err()
+    }
+
+    /// Per articulation: its bodies (links, root first), its joints (the free
+    /// root of a floating base is -1) and the substeps its last step took.
+    fn articulations<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let mut out = Vec::new();
+        for a in &self.inner.articulations.list {
+            let d = PyDict::new(py);
+            d.set_item("bodies", a.links.iter().map(|l| l.body as i64).collect::<Vec<_>>())?;
+            d.set_item("joints", a.links.iter().map(|l| l.joint.map_or(-1, |j| j as i64)).collect::<Vec<_>>())?;
+            d.set_item("substeps", a.last_substeps)?;
+            d.set_item("dofs", a.nv)?;
+            out.push(d);
+        }
+        Ok(out)
+    }
+
     /// Simulated time (s).
     #[getter]
     fn time(&self) -> f64 {
@@ -170,13 +204,13 @@ impl PyWorld {
 
     /// Force (J, 3) (N, world) each joint applied to its body a over the last
     /// substep; body b received the opposite.
-    fn joint_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    fn joint_forces<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         joints::rows(py, self.inner.joint_forces())
     }
 
     /// Couple (J, 3) (N·m, world) each joint's angular constraints applied to
     /// body a over the last substep (with the force: the wrench about a's anchor).
-    fn joint_torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    fn joint_torques<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         joints::rows(py, self.inner.joint_torques())
     }
 

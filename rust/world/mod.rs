@@ -1,12 +1,14 @@
 //! A [`Scene`] (a plain description, validated as it is filled) compiles into a
 //! [`World`] (state arrays plus the stages this scene needs).
 
+pub mod articulations;
 pub mod collision;
 pub mod diagnostics;
 pub mod joints;
 pub mod particles;
 pub mod pipeline;
 pub mod profile;
+pub mod reach;
 pub mod scene;
 pub mod settings;
 pub mod step;

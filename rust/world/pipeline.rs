@@ -74,6 +74,8 @@ pub enum StageKind {
     Sleep,
     /// XPBD projection of the joints (after the last drift of a substep).
     Joints,
+    /// Articulations in reduced coordinates: a whole step, substeps their own.
+    Articulation,
     /// Particles: prediction by their velocities and gravity.
     ParticlePredict,
     /// Shape matching of the particle clusters.
@@ -126,6 +128,7 @@ impl Stage {
             StageKind::Ccd => "ccd",
             StageKind::Sleep => "sleep",
             StageKind::Joints => "joints",
+            StageKind::Articulation => "articulation",
             StageKind::ParticlePredict | StageKind::ParticleProject => "xpbd",
             StageKind::ShapeMatching => "shape_matching",
         }
@@ -150,8 +153,10 @@ pub struct PlanInputs {
     pub sleep: bool,
     /// Solver iterations per substep (≥ 1), contacts and joints alike.
     pub iterations: u32,
-    /// The scene has joints.
+    /// The scene has joints that XPBD projects.
     pub joints: bool,
+    /// The scene has articulations.
+    pub articulations: bool,
     /// The scene has particles / shape-matching clusters.
     pub particles: bool,
     pub clusters: bool,
@@ -183,6 +188,11 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
     if inp.collisions {
         p.pre.push(Stage::new(StageKind::BroadPhase, 1.0));
         p.pre.push(Stage::new(StageKind::NarrowPhase, 1.0));
+    }
+    if inp.articulations {
+        // Articulations touch nothing outside themselves (they fall back to XPBD
+        // otherwise), so their whole step runs on its own, once per step.
+        p.pre.push(Stage::whole(StageKind::Articulation, 1.0));
     }
     if dynamic && inp.collisions && !inp.joints && !inp.particles {
         return plan_free_and_touching(p, inp, lists);

@@ -50,6 +50,8 @@ pub struct BodySpec {
     pub filter: Filter,
     /// Continuous collision detection for this body. Default false.
     pub ccd: bool,
+    /// A name for read-back (`world.bodies.names`). Default none.
+    pub name: Option<String>,
 }
 
 impl Default for BodySpec {
@@ -69,6 +71,7 @@ impl Default for BodySpec {
             material: Material::default(),
             filter: Filter::default(),
             ccd: false,
+            name: None,
         }
     }
 }
@@ -84,6 +87,7 @@ pub struct BodyDesc {
     pub material: Material,
     pub filter: Filter,
     pub ccd: bool,
+    pub name: Option<String>,
 }
 
 #[derive(Clone, Debug)]
@@ -93,20 +97,28 @@ pub struct Scene {
     bodies: Vec<BodyDesc>,
     /// Joints, validated and compiled by `add_joint` (see `super::joints`).
     pub(crate) joints: Vec<crate::xpbd::joints::Joint>,
+    /// Per joint: name, solver choice and controls (see `super::joints`).
+    pub(crate) joint_options: Vec<super::joints::JointOptions>,
     /// Particles, their constraints and clusters (see `world::particles`).
     pub(crate) xpbd: crate::xpbd::XpbdModel,
 }
 
 impl Default for Scene {
     fn default() -> Self {
-        Self { gravity: [0.0, 0.0, -9.81], bodies: Vec::new(), joints: Vec::new(), xpbd: Default::default() }
+        Self {
+            gravity: [0.0, 0.0, -9.81],
+            bodies: Vec::new(),
+            joints: Vec::new(),
+            joint_options: Vec::new(),
+            xpbd: Default::default(),
+        }
     }
 }
 
 impl Scene {
     pub fn new(gravity: [f64; 3]) -> Result<Self> {
         finite3("gravity", gravity)?;
-        Ok(Self { gravity, bodies: Vec::new(), joints: Vec::new(), xpbd: Default::default() })
+        Ok(Self { gravity, ..Self::default() })
     }
 
     pub fn bodies(&self) -> &[BodyDesc] {
@@ -117,6 +129,11 @@ impl Scene {
     /// is unchanged.
     pub fn add_body(&mut self, spec: BodySpec) -> Result<usize> {
         let index = self.bodies.len();
+        if let Some(name) = &spec.name {
+            if self.bodies.iter().any(|b| b.name.as_ref() == Some(name)) {
+                return Err(Error::input(format!("body {index}: name {name:?} is taken by another body")));
+            }
+        }
         let desc = describe(spec).map_err(|e| e.context(format!("body {index}")))?;
         self.bodies.push(desc);
         Ok(index)
@@ -247,5 +264,5 @@ fn describe(spec: BodySpec) -> Result<BodyDesc> {
         Translation3::from(-quat::rotate(&inv_frame, &com)),
         UnitQuaternion::new_unchecked(inv_frame),
     );
-    Ok(BodyDesc { init, shape: spec.shape, shape_pose, material: spec.material, filter: spec.filter, ccd: spec.ccd })
+    Ok(BodyDesc { init, shape: spec.shape, shape_pose, material: spec.material, filter: spec.filter, ccd: spec.ccd, name: spec.name })
 }

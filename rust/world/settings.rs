@@ -12,13 +12,16 @@ pub struct Settings {
     /// The time integrator. Default: [`Integrator::Strang`].
     pub integrator: Integrator,
     /// Substeps per step: each runs the substep stages with `dt / substeps`.
-    /// Default (`None`): 1 without contacts, 4 with them.
+    /// Default (`None`): 1 without contacts, 4 with them, and with XPBD joints
+    /// at least half the joints of the largest jointed system (at most 64).
     pub substeps: Option<u32>,
     /// Contact solver iterations per substep (and as many relax iterations), and
     /// Gauss–Seidel passes over the joints per substep. Default 1.
     pub iterations: u32,
     pub solver: SolverSettings,
     pub sleep: SleepSettings,
+    /// Articulations: on/off, integrator, substeps (see [`crate::articulation`]).
+    pub articulation: crate::articulation::ArticulationSettings,
 }
 
 impl Settings {
@@ -30,6 +33,7 @@ impl Settings {
             iterations: 1,
             solver: SolverSettings::default(),
             sleep: SleepSettings::default(),
+            articulation: Default::default(),
         }
     }
 
@@ -37,6 +41,9 @@ impl Settings {
         positive("dt", self.dt)?;
         if self.substeps == Some(0) {
             return Err(Error::input("substeps must be at least 1, got 0"));
+        }
+        if self.articulation.substeps == Some(0) {
+            return Err(Error::input("articulation_substeps must be at least 1, got 0"));
         }
         if self.iterations == 0 {
             return Err(Error::input("iterations must be at least 1, got 0"));

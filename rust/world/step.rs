@@ -23,6 +23,8 @@ impl World {
         validate::normalize(&mut self.bodies);
         self.wake_on_user_input();
         self.replan(false);
+        self.sync_targets();
+        self.articulations.invalidate();
         let src = self.kick_sources();
         let h = self.settings.dt / self.substeps as f64;
         for _ in 0..n {
@@ -45,6 +47,9 @@ impl World {
             self.steps += 1;
         }
         self.profile.count_steps(n);
+        if !self.articulations.is_empty() || !self.joints.is_empty() {
+            self.read_joints();
+        }
         if self.keep_derived {
             self.bodies.update_derived();
         }
@@ -129,6 +134,7 @@ impl World {
             }
             StageKind::Sleep => self.sleep(dt),
             StageKind::Joints => self.project_joints(h),
+            StageKind::Articulation => self.step_articulations(),
             StageKind::ParticlePredict | StageKind::ShapeMatching | StageKind::ParticleProject => {
                 self.particle_stage(stage.kind, hf)
             }

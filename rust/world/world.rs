@@ -32,6 +32,21 @@ pub struct World {
     pub joints: crate::xpbd::joints::Joints,
     /// Particles, their constraints and clusters (none without particles).
     pub xpbd: Option<crate::xpbd::Xpbd>,
+    /// Tree-shaped joint systems in reduced coordinates.
+    pub articulations: crate::articulation::Articulations,
+    /// Per body: whether it is an articulation's link (the body integrator
+    /// leaves it alone; its pose and velocity are written from the joints).
+    pub articulated_body: Vec<bool>,
+    /// Per joint (the views `world.joints.*`): angle (rad) or slide (m), its
+    /// rate, the drive target (writable), the generalized force applied over
+    /// the last step (N·m or N). NaN where a joint has no single coordinate.
+    pub joint_position: Vec<f64>,
+    pub joint_velocity: Vec<f64>,
+    pub joint_target: Vec<f64>,
+    pub joint_force: Vec<f64>,
+    /// Names given to `add_body` and `add_joint` (empty when none).
+    pub body_names: Vec<String>,
+    pub joint_names: Vec<String>,
     pub(crate) plan: Plan,
     pub(crate) plan_inputs: PlanInputs,
     pub(crate) steps: u64,
@@ -49,10 +64,17 @@ impl World {
             bodies.push(&d.init);
         }
         let shapes = descs.iter().map(|d| d.shape.clone().map(|s| (s, d.shape_pose))).collect();
-        let joint_pairs = World::joint_pairs(scene);
+        let compiled = super::articulations::compile(scene, &settings)?;
+        let mut joint_pairs = World::joint_pairs(scene);
+        joint_pairs.extend(compiled.link_pairs.iter().copied());
+        joint_pairs.sort_unstable();
+        joint_pairs.dedup();
         let collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
-        let substeps = settings.substeps.unwrap_or(if collision.is_some() { 4 } else { 1 });
-        let lists = BodyLists::new(&bodies);
+        let xpbd_joints = compiled.articulated_joint.iter().any(|&a| !a);
+        let base = if collision.is_some() { 4 } else { 1 };
+        let xpbd_base = if xpbd_joints { super::joints::xpbd_substeps(scene, &compiled.articulated_joint) } else { 1 };
+        let substeps = settings.substeps.unwrap_or(base.max(xpbd_base));
+        let lists = BodyLists::new(&bodies).without(&compiled.articulated_body);
         let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
         let rotation = settings.integrator.splitting().map_or(Rotation::Free, |s| s.rotation);
         let plan_inputs = PlanInputs {
@@ -65,7 +87,8 @@ impl World {
             kinematic: descs.iter().any(|d| d.init.kind == BodyKind::Kinematic),
             sleep: collision.is_some() && settings.sleep.enabled,
             iterations: settings.iterations,
-            joints: !scene.joints().is_empty(),
+            joints: xpbd_joints,
+            articulations: !compiled.articulations.is_empty(),
             particles: !scene.xpbd.is_empty(),
             clusters: !scene.xpbd.clusters.is_empty(),
         };
@@ -81,8 +104,20 @@ impl World {
             lists,
             kinematic,
             collision,
-            joints: crate::xpbd::joints::Joints::new(scene.joints().to_vec()),
+            joints: {
+                let mut j = crate::xpbd::joints::Joints::new(scene.joints().to_vec());
+                j.articulated = compiled.articulated_joint.clone();
+                j
+            },
             xpbd,
+            articulations: compiled.articulations,
+            articulated_body: compiled.articulated_body,
+            joint_position: vec![f64::NAN; scene.joints().len()],
+            joint_velocity: vec![f64::NAN; scene.joints().len()],
+            joint_target: scene.joint_options().iter().map(initial_target).collect(),
+            joint_force: vec![0.0; scene.joints().len()],
+            body_names: descs.iter().map(|d| d.name.clone().unwrap_or_default()).collect(),
+            joint_names: scene.joint_options().iter().map(|o| o.name.clone().unwrap_or_default()).collect(),
             plan: Plan::default(),
             plan_inputs,
             steps: 0,
@@ -90,6 +125,9 @@ impl World {
             profile: Profile::default(),
         };
         world.replan(true);
+        world.sync_targets();
+        world.place_links();
+        world.read_joints();
         world.bodies.update_derived();
         Ok(world)
     }
@@ -142,7 +180,7 @@ impl World {
 
     /// Rebuilds the class lists after bodies fell asleep or woke.
     pub(crate) fn relist(&mut self) {
-        self.lists = BodyLists::new(&self.bodies);
+        self.lists = BodyLists::new(&self.bodies).without(&self.articulated_body);
         self.plan = plan(&self.plan_inputs, &self.lists);
         self.plan.assign_slots(&mut self.profile);
     }
@@ -205,5 +243,13 @@ impl World {
             BodyKind::Kinematic => "kinematic",
         };
         Err(Error::input(format!("body {i} is {kind}: forces on it would have no effect")))
+    }
+}
+
+/// A 1-dof drive's target at build (0 for joints without one).
+fn initial_target(o: &super::joints::JointOptions) -> f64 {
+    match &o.control.drive {
+        Some(d) if d.target.len() == 1 => d.target[0],
+        _ => 0.0,
     }
 }

@@ -111,17 +111,31 @@ pub struct Joints {
     /// Force (N) and couple (N·m) on body a over the last substep, world frame.
     pub force: Vec<[f64; 3]>,
     pub torque: Vec<[f64; 3]>,
+    /// Joints an articulation carries: never projected here.
+    pub articulated: Vec<bool>,
 }
 
 impl Joints {
     pub fn new(joints: Vec<Joint>) -> Self {
         let n = joints.len();
         let pairs = joints.iter().filter_map(|j| j.body_b.map(|b| (j.body_a, b))).collect();
-        Self { joints, pairs, state: vec![Multipliers::default(); n], force: vec![[0.0; 3]; n], torque: vec![[0.0; 3]; n] }
+        Self {
+            joints,
+            pairs,
+            state: vec![Multipliers::default(); n],
+            force: vec![[0.0; 3]; n],
+            torque: vec![[0.0; 3]; n],
+            articulated: vec![false; n],
+        }
     }
 
     pub fn is_empty(&self) -> bool {
         self.joints.is_empty()
+    }
+
+    /// Whether some joint is projected here (not carried by an articulation).
+    pub fn any_projected(&self) -> bool {
+        self.articulated.iter().any(|&a| !a)
     }
 
     /// The body pairs joints tie together, (a, b); the world is left out.
@@ -136,7 +150,7 @@ impl Joints {
     pub fn project(&mut self, bodies: &mut Bodies, h: f64, iterations: u32) {
         self.state.fill(Multipliers::default());
         let moving = |j: &Joint| bodies.awake(j.body_a as usize) || j.body_b.is_some_and(|b| bodies.awake(b as usize));
-        let active: Vec<bool> = self.joints.iter().map(moving).collect();
+        let active: Vec<bool> = self.joints.iter().zip(&self.articulated).map(|(j, &art)| !art && moving(j)).collect();
         for _ in 0..iterations.max(1) {
             for ((j, state), _) in self.joints.iter().zip(self.state.iter_mut()).zip(&active).filter(|(_, &on)| on) {
                 let (a, b) = (j.body_a as usize, j.body_b.map(|b| b as usize));

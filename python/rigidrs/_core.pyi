@@ -282,7 +282,8 @@ class Scene:
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
-        ``iterations`` is also the number of XPBD constraint passes per substep."""
+        ``iterations`` is also the number of XPBD constraint passes per substep (each a
+        Gauss–Seidel sweep forward and back over the particle constraints, then the contacts)."""
     @property
     def particle_count(self) -> int:
         """Number of particles added so far."""

@@ -14,8 +14,9 @@ pub struct Settings {
     /// Substeps per step: each runs the substep stages with `dt / substeps`.
     /// Default (`None`): 1 without contacts, 4 with them.
     pub substeps: Option<u32>,
-    /// Contact solver iterations per substep (and as many relax iterations), and
-    /// Gauss–Seidel passes over the joints per substep. Default 1.
+    /// Contact solver iterations per substep (and as many relax iterations),
+    /// Gauss–Seidel passes over the joints per substep, and symmetric passes over
+    /// the particle constraints per substep. Default 1.
     pub iterations: u32,
     pub solver: SolverSettings,
     pub sleep: SleepSettings,

@@ -273,8 +273,12 @@ class Scene:
         """Compiles the scene.
 
         ``dt`` (s) per step; ``integrator`` from ``INTEGRATORS`` (default "strang");
-        ``substeps`` per step (default: 1 without contacts, 4 with them); ``iterations``
-        contact-solver and joint iterations per substep (default 1). Contacts: ``restitution_threshold``
+        ``substeps`` per step (default: 1 without contacts, 4 with them, and with particle
+        distance links at least enough that, in each linked structure, a particle moving at
+        √(2·|g|·ℓ) (ℓ its bounding-box diagonal, or its fastest initial speed if faster) travels
+        at most 0.1 of the structure's shortest link per substep, up to 1024; ``World.substeps``
+        tells what was chosen); ``iterations`` contact-solver and joint iterations per substep
+        (default 1). Contacts: ``restitution_threshold``
         (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
         (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
         close in a step; resting penetration stays within it; default 0.005), ``contact_hertz`` (Hz,

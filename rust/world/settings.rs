@@ -12,7 +12,9 @@ pub struct Settings {
     /// The time integrator. Default: [`Integrator::Strang`].
     pub integrator: Integrator,
     /// Substeps per step: each runs the substep stages with `dt / substeps`.
-    /// Default (`None`): 1 without contacts, 4 with them.
+    /// Default (`None`): 1 without contacts, 4 with them, and at least what the
+    /// scene's particle links ask for ([`crate::xpbd::substeps::for_links`]: a
+    /// particle travels at most 0.1 of its structure's shortest link per substep).
     pub substeps: Option<u32>,
     /// Contact solver iterations per substep (and as many relax iterations),
     /// Gauss–Seidel passes over the joints per substep, and symmetric passes over

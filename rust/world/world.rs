@@ -51,7 +51,11 @@ impl World {
         let shapes = descs.iter().map(|d| d.shape.clone().map(|s| (s, d.shape_pose))).collect();
         let joint_pairs = World::joint_pairs(scene);
         let collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
-        let substeps = settings.substeps.unwrap_or(if collision.is_some() { 4 } else { 1 });
+        // Default: 4 with contacts, else 1, and what particle links ask for.
+        let substeps = settings.substeps.unwrap_or_else(|| {
+            let links = crate::xpbd::substeps::for_links(&scene.xpbd, Vec3::from(scene.gravity), settings.dt);
+            links.max(if collision.is_some() { 4 } else { 1 })
+        });
         let lists = BodyLists::new(&bodies);
         let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
         let rotation = settings.integrator.splitting().map_or(Rotation::Free, |s| s.rotation);

@@ -407,15 +407,19 @@ class Scene:
         compliance: float = 0.0,
         damping: float = 0.0,
         bending_compliance: float | None = None,
+        bending_damping: float | None = None,
         pinned: Sequence[int] = ...,
         collision_group: int = 1,
         collision_mask: int = 4294967295,
     ) -> range:
         """A cloth of ``resolution = (nu, nv)`` particles at ``origin + i/(nu−1)·u + j/(nv−1)·v``
         (m), local index ``j·nu + i``, sharing ``mass`` (kg, total). Distance constraints on every
-        triangle edge (compliance m/N), then dihedral bending on every interior edge if
-        ``bending_compliance`` (rad/(N·m)) is given. ``collision_group``/``collision_mask``: every
-        particle's filter (see ``add_particle``). Returns the particles' index range."""
+        triangle edge (compliance m/N, ``damping`` N·s/m), then dihedral bending on every interior
+        edge if ``bending_compliance`` (rad/(N·m)) is given, with the dashpot ``bending_damping``
+        (N·m·s/rad; default 0.05 s / ``bending_compliance``: damping proportional to the bending
+        stiffness, ratio π·f·0.05 s for a bending mode of f Hz, so a dropped cloth comes to rest;
+        0 for none). ``collision_group``/``collision_mask``: every particle's filter (see
+        ``add_particle``). Returns the particles' index range."""
     def add_soft_box(
         self,
         center: ArrayLike,

@@ -147,23 +147,14 @@ impl Xpbd {
     /// the order distance, bending, volume, mesh volume, attachment, or the reverse.
     fn sweep(&mut self, bodies: &mut Bodies, k: &Substep, reverse: bool) {
         let Particles { position: x, prev, inv_mass: w, .. } = &mut self.particles;
-        macro_rules! each {
-            ($list:expr, $c:ident => $body:expr) => {
-                if reverse {
-                    $list.iter_mut().rev().for_each(|$c| $body)
-                } else {
-                    $list.iter_mut().for_each(|$c| $body)
-                }
-            };
-        }
         let order: [usize; 5] = if reverse { [4, 3, 2, 1, 0] } else { [0, 1, 2, 3, 4] };
         for kind in order {
             match kind {
-                0 => each!(self.distance, c => distance::project(c, x, prev, w, k)),
-                1 => each!(self.bending, c => bending::project(c, x, prev, w, k)),
-                2 => each!(self.tets, c => volume::project_tet(c, x, prev, w, k)),
-                3 => each!(self.meshes, c => c.project(x, prev, w, k)),
-                _ => each!(self.attachments, c => attachment::project(c, x, prev, w, bodies, k)),
+                0 => each(&mut self.distance, reverse, |c| distance::project(c, x, prev, w, k)),
+                1 => each(&mut self.bending, reverse, |c| bending::project(c, x, prev, w, k)),
+                2 => each(&mut self.tets, reverse, |c| volume::project_tet(c, x, prev, w, k)),
+                3 => each(&mut self.meshes, reverse, |c| c.project(x, prev, w, k)),
+                _ => each(&mut self.attachments, reverse, |c| attachment::project(c, x, prev, w, bodies, k)),
             }
         }
     }
@@ -184,5 +175,15 @@ impl Xpbd {
         self.meshes.iter().for_each(|c| put(c.id, c.lambda));
         self.attachments.iter().for_each(|c| put(c.id, c.lambda));
         out
+    }
+}
+
+/// `f` on every item of `list`, last to first if `reverse`.
+#[inline(always)]
+fn each<T>(list: &mut [T], reverse: bool, f: impl FnMut(&mut T)) {
+    if reverse {
+        list.iter_mut().rev().for_each(f)
+    } else {
+        list.iter_mut().for_each(f)
     }
 }

@@ -152,6 +152,12 @@ HARD_CASES: dict[str, list[str]] = {
         "test_accuracy_report::test_tiny_report_writes_its_files",
         "test_accuracy_report::test_every_problem_has_two_decades_of_h_per_method",
     ],
+    # Contacts and joints at default settings
+    "cloth over a sphere at the defaults: KE <= released energy, links <= 110 %, comes to rest": [
+        "test_cloth_over_sphere::test_cloth_over_a_sphere_at_default_settings",
+        "test_cloth_over_sphere::test_readme_cloth_over_a_sphere_does_not_blow_up_at_one_substep",
+        "test_cloth_over_sphere::test_gauss_seidel_pass_does_not_pump_a_flat_cloth",
+    ],
 }
 
 

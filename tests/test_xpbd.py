@@ -203,11 +203,13 @@ def test_substeps_beat_iterations_on_a_stiff_chain(horizontal):
 
 @pytest.mark.parametrize("substeps", [16, 64])
 def test_light_particle_holds_heavy_one_with_zero_compliance(substeps):
-    # pin — 1 g — 1 kg, rigid links of 1 m. One top-down sweep per substep has the
-    # fixed point e1 = (M/m)·g·h² (the light link gives way by the mass ratio times
-    # the gravity drift), e2 = 0, with λ1/h² = −(M+m)g and λ2/h² = −Mg exactly
-    # (derivation: predict +g h², project link 1 to C1 = 0, link 2 then leaves
-    # C2 = e1 + e2 + g h² and moves the heavy one back by w2/(w1 + w2) of it).
+    # pin — 1 g — 1 kg, rigid links of 1 m. One symmetric pass per substep (links
+    # 1, 2, then 2, 1; the repeated link 2 is already exact) has the fixed point
+    # e1 = 0, e2 = (M/m)·g·h² (the lower link gives way by the mass ratio times the
+    # gravity drift), with λ1/h² = −(M+m)g and λ2/h² = −Mg exactly (derivation:
+    # predict +g h²; link 1 lifts the light one to C1 = 0; link 2 leaves
+    # C2 = e2 + g h², moves the light one down by r = M/(M+m) of it and the heavy
+    # one up by the rest; link 1 lifts the light one again: e2 = r(e2 + g h²)).
     m, M, dt = 1e-3, 1.0, 1 / 60
     scene = rr.Scene()
     a = scene.add_particle((0, 0, 0), fixed=True)
@@ -222,9 +224,9 @@ def test_light_particle_holds_heavy_one_with_zero_compliance(substeps):
     h = dt / substeps
     x = world.particles.position
     stretch = np.linalg.norm(np.diff(x, axis=0), axis=1) - 1.0
-    assert abs(stretch[0] - (M / m) * G * h * h) <= 1e-6 * (M / m) * G * h * h
-    assert abs(stretch[1]) <= 1e-12
-    assert stretch[0] < (0.011 if substeps == 16 else 7e-4)  # of a 1 m link: held
+    assert abs(stretch[1] - (M / m) * G * h * h) <= 1e-6 * (M / m) * G * h * h
+    assert abs(stretch[0]) <= 1e-12
+    assert stretch[1] < (0.011 if substeps == 16 else 7e-4)  # of a 1 m link: held
     # Forces to 1e-8: positions carry round-off of ~2e-16 m against a drift of
     # g h² = 7e-7 m per substep, and λ is computed from them.
     np.testing.assert_allclose(world.constraint_forces(), [-(M + m) * G, -M * G], rtol=1e-8)

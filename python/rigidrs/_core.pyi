@@ -334,8 +334,12 @@ class Scene:
         """Compiles the scene.
 
         ``dt`` (s) per step; ``integrator`` from ``INTEGRATORS`` (default "strang");
-        ``substeps`` per step (default: 1 without contacts, 4 with them); ``iterations``
-        contact-solver and joint iterations per substep (default 1). Contacts: ``restitution_threshold``
+        ``substeps`` per step (default: 1 without contacts, 4 with them, and with particle
+        distance links at least enough that, in each linked structure, a particle moving at
+        √(2·|g|·ℓ) (ℓ its bounding-box diagonal, or its fastest initial speed if faster) travels
+        at most 0.1 of the structure's shortest link per substep, up to 1024; ``World.substeps``
+        tells what was chosen); ``iterations`` contact-solver and joint iterations per substep
+        (default 1). Contacts: ``restitution_threshold``
         (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
         (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
         close in a step; resting penetration stays within it; default 0.005), ``contact_hertz`` (Hz,
@@ -343,9 +347,10 @@ class Scene:
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
-        ``iterations`` is also the number of XPBD constraint passes per substep; with XPBD
-        joints ``substeps`` defaults to at least half the joints of the largest jointed
-        system (at most 64). Articulations: ``articulations`` (default True; False keeps
+        ``iterations`` is also the number of XPBD constraint passes per substep (each a
+        Gauss–Seidel sweep forward and back over the particle constraints, then the contacts);
+        with XPBD joints ``substeps`` defaults to at least half the joints of the largest
+        jointed system (at most 64). Articulations: ``articulations`` (default True; False keeps
         every joint XPBD), ``articulation_integrator`` from ``ARTICULATION_INTEGRATORS``
         (default "leapfrog"), ``articulation_substeps`` per step (default None: chosen
         before every substep so that h·ω ≤ 0.25, ω the fastest joint rate or link tension
@@ -469,15 +474,19 @@ class Scene:
         compliance: float = 0.0,
         damping: float = 0.0,
         bending_compliance: float | None = None,
+        bending_damping: float | None = None,
         pinned: Sequence[int] = ...,
         collision_group: int = 1,
         collision_mask: int = 4294967295,
     ) -> range:
         """A cloth of ``resolution = (nu, nv)`` particles at ``origin + i/(nu−1)·u + j/(nv−1)·v``
         (m), local index ``j·nu + i``, sharing ``mass`` (kg, total). Distance constraints on every
-        triangle edge (compliance m/N), then dihedral bending on every interior edge if
-        ``bending_compliance`` (rad/(N·m)) is given. ``collision_group``/``collision_mask``: every
-        particle's filter (see ``add_particle``). Returns the particles' index range."""
+        triangle edge (compliance m/N, ``damping`` N·s/m), then dihedral bending on every interior
+        edge if ``bending_compliance`` (rad/(N·m)) is given, with the dashpot ``bending_damping``
+        (N·m·s/rad; default 0.05 s / ``bending_compliance``: damping proportional to the bending
+        stiffness, ratio π·f·0.05 s for a bending mode of f Hz, so a dropped cloth comes to rest;
+        0 for none). ``collision_group``/``collision_mask``: every particle's filter (see
+        ``add_particle``). Returns the particles' index range."""
     def add_soft_box(
         self,
         center: ArrayLike,

@@ -226,7 +226,8 @@ impl PyScene {
 
     /// A rectangular cloth of `resolution = (nu, nv)` particles; returns their range.
     #[pyo3(signature = (origin, u, v, resolution, *, mass=1.0, radius=0.0, friction=0.5, compliance=0.0, damping=0.0,
-                        bending_compliance=None, pinned=Vec::new(), collision_group=1, collision_mask=4294967295))]
+                        bending_compliance=None, bending_damping=None, pinned=Vec::new(), collision_group=1,
+                        collision_mask=4294967295))]
     #[allow(clippy::too_many_arguments)]
     fn add_cloth<'py>(
         &mut self,
@@ -241,13 +242,17 @@ impl PyScene {
         compliance: f64,
         damping: f64,
         bending_compliance: Option<f64>,
+        bending_damping: Option<f64>,
         pinned: Vec<i64>,
         collision_group: i64,
         collision_mask: i64,
     ) -> PyResult<Bound<'py, PyRange>> {
         let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
-        let kb = bending_compliance.map(|b| Compliance::new(b, 0.0)).transpose().py_err()?;
+        if bending_compliance.is_none() && bending_damping.is_some() {
+            return Err(PyValueError::new_err("bending_damping needs bending_compliance: without it the cloth has no bending constraints"));
+        }
+        let kb = bending_compliance.map(|b| builders::cloth_bending(b, bending_damping)).transpose().py_err()?;
         let filter = particle_filter(collision_group, collision_mask, "particles")?;
         let mat = Material { mass, radius, friction, filter };
         let (o, u, v) = (vec3(origin, "origin")?, vec3(u, "u")?, vec3(v, "v")?);

@@ -12,11 +12,15 @@ pub struct Settings {
     /// The time integrator. Default: [`Integrator::Strang`].
     pub integrator: Integrator,
     /// Substeps per step: each runs the substep stages with `dt / substeps`.
-    /// Default (`None`): 1 without contacts, 4 with them, and with XPBD joints
-    /// at least half the joints of the largest jointed system (at most 64).
+    /// Default (`None`): 1 without contacts, 4 with them; with XPBD joints at
+    /// least half the joints of the largest jointed system (at most 64); and at
+    /// least what the scene's particle links ask for
+    /// ([`crate::xpbd::substeps::for_links`]: a particle travels at most 0.1 of its
+    /// structure's shortest link per substep).
     pub substeps: Option<u32>,
-    /// Contact solver iterations per substep (and as many relax iterations), and
-    /// Gauss–Seidel passes over the joints per substep. Default 1.
+    /// Contact solver iterations per substep (and as many relax iterations),
+    /// Gauss–Seidel passes over the joints per substep, and symmetric passes over
+    /// the particle constraints per substep. Default 1.
     pub iterations: u32,
     pub solver: SolverSettings,
     pub sleep: SleepSettings,

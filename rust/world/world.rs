@@ -73,7 +73,11 @@ impl World {
         let xpbd_joints = compiled.articulated_joint.iter().any(|&a| !a);
         let base = if collision.is_some() { 4 } else { 1 };
         let xpbd_base = if xpbd_joints { super::joints::xpbd_substeps(scene, &compiled.articulated_joint) } else { 1 };
-        let substeps = settings.substeps.unwrap_or(base.max(xpbd_base));
+        // Default: 4 with contacts, else 1; what XPBD joints and particle links ask for.
+        let substeps = settings.substeps.unwrap_or_else(|| {
+            let links = crate::xpbd::substeps::for_links(&scene.xpbd, Vec3::from(scene.gravity), settings.dt);
+            base.max(xpbd_base).max(links)
+        });
         let lists = BodyLists::new(&bodies).without(&compiled.articulated_body);
         let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
         let rotation = settings.integrator.splitting().map_or(Rotation::Free, |s| s.rotation);

@@ -22,6 +22,7 @@ pub mod particles;
 pub mod shape_matching;
 pub mod solver;
 pub mod spatial_hash;
+pub mod substeps;
 pub mod volume;
 
 pub use compliance::Compliance;

@@ -15,7 +15,8 @@
 //! impulse space.
 
 use super::contact::{Constraint, ContactSolver, Point};
-use super::friction::Patch;
+use super::friction::{invert3, mul3, Patch};
+use super::limit_surface::inside;
 use super::solver_body::SolverBody;
 use crate::math::Vec3;
 use nalgebra::{Matrix6, Vector6};
@@ -211,7 +212,7 @@ impl ContactSolver {
                 if c.static_friction > 0.0 {
                     push(RowKind::Tangent(0));
                     push(RowKind::Tangent(1));
-                    if self.patches[ci as usize].radius > 0.0 {
+                    if self.patches[ci as usize].shape.lever > 0.0 {
                         push(RowKind::Twist);
                     }
                 }
@@ -387,8 +388,7 @@ impl ContactSolver {
             }
             let (c, f) = (&self.constraints[face as usize], &self.patches[face as usize]);
             let hold = if f.sliding { c.friction } else { c.static_friction } * normal.max(f.settled);
-            let t = (tangent[0] * tangent[0] + tangent[1] * tangent[1]).sqrt();
-            if t > hold + tiny || twist.abs() > hold * f.radius + tiny {
+            if !inside(tangent, twist, hold, f.shape.lever, tiny) {
                 return false;
             }
         }
@@ -438,25 +438,29 @@ impl ContactSolver {
                             normal += new;
                         }
                         (RowKind::Tangent(0), Target::Friction(_)) if i + 1 < m => {
+                            // The tangent pair and the twist (if any) together, on
+                            // the patch's limit surface.
+                            let twist = i + 2 < m && rows[i + 2].kind == RowKind::Twist && rows[i + 2].face == face;
+                            let kk = |a: usize, b: usize| k[(i + a) * m + i + b];
+                            let inv = if twist {
+                                invert3([kk(0, 0), kk(0, 1), kk(0, 2), kk(1, 1), kk(1, 2), kk(2, 2)])
+                            } else {
+                                invert3([kk(0, 0), kk(0, 1), 0.0, kk(1, 1), 0.0, 1.0])
+                            };
+                            let res3 = [res, r[i + 1] - ky[i + 1], if twist { r[i + 2] - ky[i + 2] } else { 0.0 }];
+                            let d = mul3(&inv, res3);
+                            let l = [lambda[i] + y[i], lambda[i + 1] + y[i + 1], if twist { lambda[i + 2] + y[i + 2] } else { 0.0 }];
                             let (patch, c) = (&mut self.patches[face as usize], &self.constraints[face as usize]);
-                            let l = [lambda[i] + y[i], lambda[i + 1] + y[i + 1]];
-                            let res2 = r[i + 1] - ky[i + 1];
-                            let (a, bb, d) = (kii, k[i * m + i + 1], k[(i + 1) * m + i + 1]);
-                            let det = a * d - bb * bb;
-                            let step = if det > 0.0 { [(d * res - bb * res2) / det, (a * res2 - bb * res) / det] } else { [0.0; 2] };
                             // With a zero target, what is left to do is minus the slip.
-                            let new = cone(patch, c, [l[0] + step[0], l[1] + step[1]], [-res, -res2], normal);
-                            add(y, ky, i, new[0] - l[0]);
-                            add(y, ky, i + 1, new[1] - l[1]);
+                            let cand = [l[0] + d[0], l[1] + d[1]];
+                            let (f, t) = patch.settle(c, cand, l[2] + d[2], [-res3[0], -res3[1]], -res3[2], normal);
+                            add(y, ky, i, f[0] - l[0]);
+                            add(y, ky, i + 1, f[1] - l[1]);
+                            if twist {
+                                add(y, ky, i + 2, t - l[2]);
+                                i += 1;
+                            }
                             i += 1;
-                        }
-                        (RowKind::Twist, Target::Friction(_)) => {
-                            let (patch, c) = (&self.patches[face as usize], &self.constraints[face as usize]);
-                            let mu = if patch.sliding { c.friction } else { c.static_friction };
-                            let limit = mu * normal.max(patch.settled) * patch.radius;
-                            let l = lambda[i] + y[i];
-                            let new = if kii > 0.0 { (l + res / kii).clamp(-limit, limit) } else { l };
-                            add(y, ky, i, new - l);
                         }
                         (kind, _) => {
                             if kii > 0.0 {
@@ -560,27 +564,6 @@ fn min_norm(q: &Matrix6<f64>, rows: &[Row], r: &[f64], y: &mut [f64]) {
     for (row, yi) in rows.iter().zip(y.iter_mut()) {
         *yi = (row.ju[0].dot(&xl) + row.ju[1].dot(&xa)) * row.inv_weight();
     }
-}
-
-/// A tangential impulse `cand` (the one that stops the patch) on the cone of
-/// normal impulse `normal`: kept if it sticks within the static cone, else the
-/// dynamic one against the slip `slip` (Coulomb's law; along `cand` when the slip
-/// is too slow to have a direction), and the patch slides.
-fn cone(f: &mut Patch, c: &Constraint, cand: [f64; 2], slip: [f64; 2], normal: f64) -> [f64; 2] {
-    let len = (cand[0] * cand[0] + cand[1] * cand[1]).sqrt();
-    let hold = if f.sliding { c.friction } else { c.static_friction } * normal.max(f.settled);
-    if len <= hold {
-        f.sliding = false;
-        return cand;
-    }
-    f.sliding = true;
-    let speed = (slip[0] * slip[0] + slip[1] * slip[1]).sqrt();
-    let (dir, n) = if speed > super::friction::SLIP_EPS { ([-slip[0], -slip[1]], speed) } else { (cand, len) };
-    if n == 0.0 {
-        return [0.0; 2];
-    }
-    let s = c.friction * normal / n;
-    [dir[0] * s, dir[1] * s]
 }
 
 /// `K = L D Lᵀ` of a symmetric positive semi-definite `m × m` matrix: `L` below

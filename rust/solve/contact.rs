@@ -304,7 +304,7 @@ impl ContactSolver {
             // survive points that appear or vanish between steps.
             let ft: Vec3 = manifold.points.iter().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
             patch.impulse = [ft.dot(&t1), ft.dot(&t2)];
-            if patch.radius > 0.0 {
+            if patch.shape.lever > 0.0 {
                 patch.twist = manifold.points.iter().map(|tp| tp.data.twist_impulse).sum();
             }
             patch.sliding = manifold.points.iter().any(|tp| tp.data.sliding);

@@ -1,17 +1,20 @@
 //! Coulomb friction on a true cone, one friction patch per manifold (as Bepu and
 //! PhysX's patch friction): a 2D tangential impulse at the centre of the
 //! manifold's points and a twist impulse about the normal, limited together by
-//! `μ` times the manifold's total normal impulse.
+//! the patch's limit surface (see [`super::limit_surface`]): `μ` times the
+//! manifold's total normal impulse for the force, times the patch's lever for
+//! the twist, the two coupled.
 //!
-//! A patch sticks while the impulse that stops it fits the static cone `μs N`;
-//! once sliding it feels `μk N` against its slip velocity (Coulomb's law) until
-//! the slip stops. How the load of a rigid body splits between its contact points
+//! A patch sticks while the impulse that stops it (force and twist solved
+//! together) fits the static limit `μs N`; once sliding it feels the friction of
+//! its slip and spin with `μk N` (Coulomb's law over the patch) until it stops. How the load of a rigid body splits between its contact points
 //! is an artefact of the solve, so friction is not decided point by point: a
 //! Gauss–Seidel sweep would have each point try to stop the whole body alone and
 //! give up, and points sliding independently would fan and yaw a sliding box. No
 //! pyramid: the friction force has no preferred axes.
 
 use super::contact::{Constraint, ContactSolver, Point};
+use super::limit_surface::{inside, onto, PatchShape};
 use super::solver_body::{Pair, SolverBody};
 use crate::math::Vec3;
 
@@ -32,10 +35,13 @@ pub struct Patch {
     pub in2: Vec3,
     /// Inverse 2x2 tangent effective mass `[a, b, c]` of `[[a, b], [b, c]]` (kg).
     pub tangent_mass: [f64; 3],
-    /// Effective inertia about the normal (kg·m²).
-    pub twist_mass: f64,
-    /// Mean distance of the points from the centre (m): the twist's lever.
-    pub radius: f64,
+    /// Inverse of the 3x3 effective mass of the tangent directions and the twist
+    /// together, `[k00, k01, k02, k11, k12, k22]` (the tangent block alone when
+    /// the patch has no lever).
+    pub friction_mass: [f64; 6],
+    /// The patch's polygon in its tangent plane and its lever (see
+    /// [`PatchShape`]).
+    pub shape: PatchShape,
     /// Accumulated impulses of the current substep (N·s, N·m·s).
     pub impulse: [f64; 2],
     pub twist: f64,
@@ -64,29 +70,70 @@ impl Patch {
         let n = points.len() as f64;
         let r1 = points.iter().map(|p| p.r1).sum::<Vec3>() / n;
         let r2 = points.iter().map(|p| p.r2).sum::<Vec3>() / n;
-        f.radius = if points.len() > 1 { points.iter().map(|p| (p.r1 - r1).norm()).sum::<f64>() / n } else { 0.0 };
+        let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
+        let k = points.len().min(flat.len());
+        for (q, p) in flat.iter_mut().zip(points) {
+            let d = p.r1 - r1;
+            *q = [d.dot(&c.t1), d.dot(&c.t2)];
+        }
+        f.shape = PatchShape::new(&flat[..k]);
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);
             f.irt1[k] = a1.inv_i * f.rt1[k];
             f.irt2[k] = a2.inv_i * f.rt2[k];
         }
-        // A patch of one point (a ball, an edge touching a face) has no lever for
-        // a twist: no torsional friction, and nothing to compute for it.
-        if f.radius > 0.0 {
-            f.in1 = a1.inv_i * c.normal;
-            f.in2 = a2.inv_i * c.normal;
-        } else {
-            f.in1 = Vec3::zeros();
-            f.in2 = Vec3::zeros();
-        }
+        f.in1 = a1.inv_i * c.normal;
+        f.in2 = a2.inv_i * c.normal;
         let m = a1.inv_m + a2.inv_m;
         let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
         let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
         let det = a * cc - b * b;
         f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
-        let kt = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
-        f.twist_mass = if kt > 0.0 && f.radius > 0.0 { 1.0 / kt } else { 0.0 };
+        // A patch of one point (a ball, an edge touching a face) has no lever for
+        // a twist: no torsional friction.
+        f.friction_mass = if f.shape.lever > 0.0 {
+            let tw = |a: usize| f.rt1[a].dot(&f.in1) + f.rt2[a].dot(&f.in2);
+            let kww = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
+            invert3([a, b, tw(0), cc, tw(1), kww])
+        } else {
+            let [p, q, r] = f.tangent_mass;
+            [p, q, 0.0, r, 0.0, 0.0]
+        };
+    }
+
+    /// The friction force and twist after one solve, within the limit of normal
+    /// impulse `jn`, given the slip `v` at the centre and the spin `w` about the
+    /// normal; updates the regime.
+    #[inline(always)]
+    pub fn rub(&mut self, c: &Constraint, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
+        let lever = self.shape.lever;
+        let w = if lever > 0.0 { w } else { 0.0 };
+        let d = mul3(&self.friction_mass, [-v[0], -v[1], -w]);
+        let cand = [self.impulse[0] + d[0], self.impulse[1] + d[1]];
+        let cand_twist = if lever > 0.0 { self.twist + d[2] } else { 0.0 };
+        self.settle(c, cand, cand_twist, v, w, jn)
+    }
+
+    /// The friction of the patch given the impulse `cand`, `cand_twist` that
+    /// would stop it: that one if it fits the limit (it sticks), else Coulomb
+    /// over the patch for its slip `v` and spin `w` (it slides).
+    #[inline(always)]
+    pub fn settle(&mut self, c: &Constraint, cand: [f64; 2], cand_twist: f64, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
+        // Whether it sticks is judged on at least the settled normal impulse; how
+        // hard it rubs when it slides, on this pass's.
+        let lever = self.shape.lever;
+        let hold = if self.sliding { c.friction } else { c.static_friction } * jn.max(self.settled);
+        if inside(cand, cand_twist, hold, lever, 0.0) {
+            self.sliding = false;
+            return (cand, cand_twist);
+        }
+        self.sliding = true;
+        if v[0].hypot(v[1]) + lever * w.abs() > SLIP_EPS {
+            self.shape.sliding(v, w, c.friction * jn)
+        } else {
+            onto(cand, cand_twist, c.friction * jn, lever)
+        }
     }
 
     /// The tangential impulse after one solve, in the cone of normal impulse `jn`,
@@ -140,18 +187,35 @@ fn rub(c: &Constraint, points: &[Point], f: &mut Patch, bodies: &mut [SolverBody
         return;
     }
     let mut pair = Pair::load(bodies, c);
-    let l = f.cone(c, pair.patch_velocity(c, f), jn);
+    let (l, twist) = f.rub(c, pair.patch_velocity(c, f), pair.twist_velocity(c), jn);
     let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
+    let dt = twist - f.twist;
     f.impulse = l;
-    let mut dt = 0.0;
-    if f.radius > 0.0 {
-        let mu = if f.sliding { c.friction } else { c.static_friction };
-        let limit = mu * jn.max(f.settled) * f.radius;
-        let twist = (f.twist - f.twist_mass * pair.twist_velocity(c)).clamp(-limit, limit);
-        dt = twist - f.twist;
-        f.twist = twist;
-    }
+    f.twist = twist;
     pair.apply_patch(c, f, d);
     pair.apply_twist(f, dt);
     pair.store(bodies, c);
+}
+
+/// Inverse of the symmetric 3x3 `[k00, k01, k02, k11, k12, k22]` (zeros if
+/// singular).
+pub(crate) fn invert3(k: [f64; 6]) -> [f64; 6] {
+    let [a, b, c, d, e, f] = k;
+    let (c00, c01, c02) = (d * f - e * e, c * e - b * f, b * e - c * d);
+    let det = a * c00 + b * c01 + c * c02;
+    if det.abs() <= 1e-300 || !det.is_finite() {
+        return [0.0; 6];
+    }
+    let (c11, c12, c22) = (a * f - c * c, b * c - a * e, a * d - b * b);
+    [c00 / det, c01 / det, c02 / det, c11 / det, c12 / det, c22 / det]
+}
+
+/// `K x` for the symmetric 3x3 `k`.
+#[inline(always)]
+pub(crate) fn mul3(k: &[f64; 6], x: [f64; 3]) -> [f64; 3] {
+    [
+        k[0] * x[0] + k[1] * x[1] + k[2] * x[2],
+        k[1] * x[0] + k[3] * x[1] + k[4] * x[2],
+        k[2] * x[0] + k[4] * x[1] + k[5] * x[2],
+    ]
 }

@@ -8,6 +8,7 @@ pub mod friction;
 pub mod impacts;
 pub mod impulse;
 pub mod islands;
+pub mod limit_surface;
 pub mod position;
 pub mod support;
 pub mod soft;

@@ -1,0 +1,353 @@
+//! The friction limit of a contact patch: the force and the torque about the
+//! normal that Coulomb friction can give together (the limit surface of Goyal,
+//! Ruina and Papadopoulos, 1991), for a uniform pressure over the patch.
+//!
+//! A patch that slides with velocity `v` at its centre and spins at `ω` about the
+//! normal feels, at each point `r` of its area `A`, the friction `−μ p u/|u|`
+//! with `u = v + ω × r`; summed, `f = −μ N ⟨u/|u|⟩` and `τ = −μ N ⟨r × u/|u|⟩`.
+//! Force and torque are coupled: a plate that slides and spins feels neither the
+//! full `μ N` nor the full twist `μ N r̄`, and slides farther and turns longer
+//! than independent limits on each would let it. Pure spin gives the twist
+//! `μ N r̄`, `r̄` the mean distance of the patch's area from its centre
+//! (`a (√2 + asinh 1) / 3 ≈ 0.765 a` for a square of half side `a`, not the
+//! `√2 a` of its corners).
+//!
+//! Whether a patch sticks is judged on the ellipsoid `|f|²/(μN)² + τ²/(μN r̄)² ≤ 1`
+//! that touches the limit surface at pure sliding and pure spin (Howe and
+//! Cutkosky, 1996); a sliding patch takes the exact force and torque of its slip,
+//! by quadrature over the patch when both its sliding and its spin count.
+
+/// Most corners a patch's polygon keeps.
+pub const MAX_VERTICES: usize = 8;
+
+/// Subdivisions per side of each triangle of the patch in the quadrature
+/// (`QUAD²` points a triangle): the force and torque of a sliding, spinning
+/// patch to ~0.1 % (the integrand is bounded, with a kink at the centre of
+/// rotation).
+const QUAD: usize = 12;
+
+/// Ratio of sliding to spin (`|v| / (r̄ |ω|)`) beyond which a patch is taken to
+/// slide or spin only, and its friction is the closed form of that limit.
+const PURE: f64 = 1e3;
+
+/// The shape of a contact patch in its tangent plane, about its centre.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchShape {
+    /// Corners of the convex polygon (m), counter-clockwise; `n` of them.
+    pub corners: [[f64; 2]; MAX_VERTICES],
+    pub n: u8,
+    /// Mean distance of the patch (its area, or its length for a segment) from
+    /// the centre (m): the lever of its twist. 0 for a single point.
+    pub lever: f64,
+}
+
+impl PatchShape {
+    /// The patch of the contact points `p` (tangent-plane coordinates about the
+    /// patch centre, m): their convex hull, and its lever.
+    pub fn new(p: &[[f64; 2]]) -> Self {
+        let mut s = PatchShape::default();
+        let hull = convex_hull(p);
+        // More corners than kept (rare: parry's manifolds hold four, a hull face
+        // a few more): every other one, evenly.
+        let stride = hull.len().div_ceil(MAX_VERTICES).max(1);
+        for (k, c) in hull.iter().step_by(stride).enumerate() {
+            s.corners[k] = *c;
+            s.n = k as u8 + 1;
+        }
+        s.lever = s.mean_distance();
+        s
+    }
+
+    fn corners(&self) -> &[[f64; 2]] {
+        &self.corners[..self.n as usize]
+    }
+
+    /// `(1/A) ∫ |r| dA` over the polygon, exactly (or over the segment when it
+    /// has no area).
+    fn mean_distance(&self) -> f64 {
+        let c = self.corners();
+        match c.len() {
+            0 | 1 => 0.0,
+            2 => segment_mean_distance(c[0], c[1]),
+            _ => {
+                let (mut area, mut moment) = (0.0, 0.0);
+                for k in 0..c.len() {
+                    let (a, b) = (c[k], c[(k + 1) % c.len()]);
+                    let (ta, tm) = triangle_from_origin(a, b);
+                    area += ta;
+                    moment += tm;
+                }
+                let extent = self.extent();
+                let lever = moment / area;
+                // A sliver (points nearly in a line) is a segment.
+                if area > 1e-6 * extent * extent && lever.is_finite() && lever <= extent {
+                    lever
+                } else {
+                    let (a, b) = self.farthest_pair();
+                    segment_mean_distance(a, b)
+                }
+            }
+        }
+    }
+
+    fn extent(&self) -> f64 {
+        self.corners().iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)
+    }
+
+    fn farthest_pair(&self) -> ([f64; 2], [f64; 2]) {
+        let c = self.corners();
+        let mut best = (c[0], c[0], 0.0);
+        for a in c {
+            for b in c {
+                let d = (a[0] - b[0]).hypot(a[1] - b[1]);
+                if d > best.2 {
+                    best = (*a, *b, d);
+                }
+            }
+        }
+        (best.0, best.1)
+    }
+
+    /// Friction force (2D) and torque of the patch sliding with `v` at its
+    /// centre and spinning at `w`, for the friction limit `mu_n = μ N` (an impulse
+    /// or a force; the results are in the same unit, times m for the torque).
+    pub fn sliding(&self, v: [f64; 2], w: f64, mu_n: f64) -> ([f64; 2], f64) {
+        let speed = v[0].hypot(v[1]);
+        let spin = w.abs() * self.lever;
+        if speed == 0.0 && spin == 0.0 {
+            return ([0.0; 2], 0.0);
+        }
+        if spin * PURE <= speed || self.lever == 0.0 {
+            // Sliding only: Coulomb against v; a slow spin adds its first-order
+            // torque, −μN ⟨|r|²⟩ ω / |v| ≈ the ellipsoid's.
+            let t = -mu_n * self.lever * self.lever * w / speed;
+            return ([-mu_n * v[0] / speed, -mu_n * v[1] / speed], t);
+        }
+        if speed * PURE <= spin {
+            return ([0.0; 2], -mu_n * self.lever * w.signum());
+        }
+        let (f, t) = self.integrate(v, w);
+        ([-mu_n * f[0], -mu_n * f[1]], -mu_n * t)
+    }
+
+    /// `⟨u/|u|⟩` and `⟨r × u/|u|⟩` over the patch, `u = v + ω × r`.
+    fn integrate(&self, v: [f64; 2], w: f64) -> ([f64; 2], f64) {
+        let unit = |r: [f64; 2]| {
+            let u = [v[0] - w * r[1], v[1] + w * r[0]];
+            let n = u[0].hypot(u[1]);
+            if n > 0.0 {
+                [u[0] / n, u[1] / n]
+            } else {
+                [0.0; 2]
+            }
+        };
+        // Sums of u/|u|, r × u/|u| and the weights.
+        let mut acc = [0.0; 4];
+        let mut add = |r: [f64; 2], weight: f64| {
+            let u = unit(r);
+            acc[0] += weight * u[0];
+            acc[1] += weight * u[1];
+            acc[2] += weight * (r[0] * u[1] - r[1] * u[0]);
+            acc[3] += weight;
+        };
+        let c = self.corners();
+        let mut area = 0.0;
+        if c.len() >= 3 {
+            for k in 0..c.len() {
+                area += triangle_points(c[k], c[(k + 1) % c.len()], &mut add);
+            }
+        }
+        if area <= 0.0 {
+            let (a, b) = if c.len() >= 2 { self.farthest_pair() } else { ([0.0; 2], [0.0; 2]) };
+            for i in 0..QUAD * QUAD {
+                let s = (i as f64 + 0.5) / (QUAD * QUAD) as f64;
+                add([a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])], 1.0);
+            }
+        }
+        let total = acc[3];
+        ([acc[0] / total, acc[1] / total], acc[2] / total)
+    }
+}
+
+/// Whether force `f` and torque `tau` fit the friction limit `mu_n` of a patch
+/// of lever `lever`: the ellipsoid through pure sliding and pure spin.
+#[inline(always)]
+pub fn inside(f: [f64; 2], tau: f64, mu_n: f64, lever: f64, tiny: f64) -> bool {
+    let force = f[0].hypot(f[1]);
+    if lever <= 0.0 {
+        return force <= mu_n + tiny;
+    }
+    let twist = tau / lever;
+    force.hypot(twist) <= mu_n + tiny
+}
+
+/// `(f, τ)` scaled onto the ellipsoid of `mu_n` (a sliding patch whose slip is
+/// too slow to have a direction keeps the direction of the impulse that would
+/// stop it).
+#[inline(always)]
+pub fn onto(f: [f64; 2], tau: f64, mu_n: f64, lever: f64) -> ([f64; 2], f64) {
+    let twist = if lever > 0.0 { tau / lever } else { 0.0 };
+    let n = f[0].hypot(f[1]).hypot(twist);
+    if n == 0.0 {
+        return ([0.0; 2], 0.0);
+    }
+    let s = mu_n / n;
+    ([f[0] * s, f[1] * s], if lever > 0.0 { tau * s } else { 0.0 })
+}
+
+/// Area and `∫ |r| dA` of the triangle (0, a, b), exactly: in polar coordinates
+/// about the origin the triangle is `0 ≤ ρ ≤ d / cos(θ − φ)`, `d` the distance
+/// of the edge ab from the origin and `φ` its direction, so
+/// `∫ |r| dA = (d³/3) ∫ sec³(θ − φ) dθ`.
+fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
+    let cross = a[0] * b[1] - a[1] * b[0];
+    let area = 0.5 * cross;
+    let e = [b[0] - a[0], b[1] - a[1]];
+    let len = e[0].hypot(e[1]);
+    if len == 0.0 || cross == 0.0 {
+        return (area, 0.0);
+    }
+    let d = cross.abs() / len;
+    if d <= 1e-6 * len {
+        // The edge passes (nearly) through the origin: no area to speak of.
+        return (area, 0.0);
+    }
+    // Signed angles of a and b from the foot of the perpendicular on the edge.
+    let foot = [-e[1] * cross / (len * len), e[0] * cross / (len * len)];
+    let along = |p: [f64; 2]| {
+        let dir = [e[0] / len, e[1] / len];
+        let x = (p[0] - foot[0]) * dir[0] + (p[1] - foot[1]) * dir[1];
+        (x / d).atan()
+    };
+    let sec3 = |x: f64| {
+        let (s, c) = x.sin_cos();
+        0.5 * (s / (c * c) + ((1.0 + s) / c).ln())
+    };
+    let integral = d * d * d / 3.0 * (sec3(along(b)) - sec3(along(a)));
+    (area, integral.abs() * area.signum())
+}
+
+/// Mean distance from the origin of the points of the segment ab.
+fn segment_mean_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let e = [b[0] - a[0], b[1] - a[1]];
+    let len = e[0].hypot(e[1]);
+    if len == 0.0 {
+        return a[0].hypot(a[1]);
+    }
+    // ∫ sqrt(x² + d²) dx from xa to xb, over the length.
+    let dir = [e[0] / len, e[1] / len];
+    let xa = a[0] * dir[0] + a[1] * dir[1];
+    let d = (a[0] * dir[1] - a[1] * dir[0]).abs();
+    let prim = |x: f64| 0.5 * (x * x.hypot(d) + if d > 0.0 { d * d * (x / d).asinh() } else { 0.0 });
+    (prim(xa + len) - prim(xa)) / len
+}
+
+/// Calls `add(point, weight)` at the centroids of the `QUAD²` equal sub-triangles
+/// of the triangle (0, a, b) (a centroid rule on each; weights are areas);
+/// returns its area.
+fn triangle_points(a: [f64; 2], b: [f64; 2], add: &mut impl FnMut([f64; 2], f64)) -> f64 {
+    let area = 0.5 * (a[0] * b[1] - a[1] * b[0]).abs();
+    let w = area / (QUAD * QUAD) as f64;
+    let n = QUAD as f64;
+    let at = |i: f64, j: f64| [(i * a[0] + j * b[0]) / n, (i * a[1] + j * b[1]) / n];
+    for i in 0..QUAD {
+        for j in 0..QUAD - i {
+            let (fi, fj) = (i as f64, j as f64);
+            // The upward sub-triangle (i, j), (i+1, j), (i, j+1) of the grid.
+            add(at(fi + 1.0 / 3.0, fj + 1.0 / 3.0), w);
+            if i + j + 1 < QUAD {
+                add(at(fi + 2.0 / 3.0, fj + 2.0 / 3.0), w);
+            }
+        }
+    }
+    area
+}
+
+/// Convex hull of a few points, counter-clockwise (monotone chain).
+fn convex_hull(p: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let mut pts: Vec<[f64; 2]> = p.to_vec();
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    pts.dedup_by(|a, b| (a[0] - b[0]).abs() <= 1e-12 && (a[1] - b[1]).abs() <= 1e-12);
+    if pts.len() <= 2 {
+        return pts;
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
+        for &q in iter {
+            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(a: f64) -> PatchShape {
+        PatchShape::new(&[[a, a], [-a, a], [-a, -a], [a, -a]])
+    }
+
+    #[test]
+    fn the_lever_of_a_square_is_its_mean_distance_not_its_corners() {
+        let a = 0.2;
+        let exact = a * (2f64.sqrt() + 1f64.asinh()) / 3.0;
+        assert!((square(a).lever - exact).abs() <= 1e-14, "{} vs {exact}", square(a).lever);
+        // A disc of radius R (a 64-gon): 2R/3.
+        let disc: Vec<[f64; 2]> = (0..64).map(|k| {
+            let t = k as f64 * std::f64::consts::TAU / 64.0;
+            [t.cos(), t.sin()]
+        }).collect();
+        let d = PatchShape::new(&disc);
+        assert_eq!(d.n as usize, MAX_VERTICES);
+        // Kept evenly: a regular octagon inscribed in the unit circle, whose mean
+        // distance lies between the inscribed disc's 2/3·cos(π/8) and the circle's 2/3.
+        assert!(d.lever > 2.0 / 3.0 * (std::f64::consts::PI / 8.0).cos() && d.lever < 2.0 / 3.0, "{}", d.lever);
+        // A segment of half-length L through its centre: L/2.
+        let s = PatchShape::new(&[[-0.3, 0.0], [0.3, 0.0]]);
+        assert!((s.lever - 0.15).abs() <= 1e-15);
+        assert_eq!(PatchShape::new(&[[0.1, 0.2]]).lever, 0.0);
+    }
+
+    #[test]
+    fn pure_spin_and_pure_sliding_are_the_coulomb_limits() {
+        let s = square(0.2);
+        let (f, t) = s.sliding([0.0; 2], 3.0, 2.0);
+        assert_eq!(f, [0.0; 2]);
+        assert!((t + 2.0 * s.lever).abs() <= 1e-15);
+        let (f, _) = s.sliding([3.0, 4.0], 0.0, 2.0);
+        assert!((f[0] + 1.2).abs() <= 1e-15 && (f[1] + 1.6).abs() <= 1e-15);
+    }
+
+    #[test]
+    fn sliding_and_spinning_together_lies_on_the_limit_surface_below_both_limits() {
+        // v = 1, ω r̄ = 1: against a 100 x 100 grid sum of the same integrals.
+        let a = 0.2;
+        let s = square(a);
+        let (v, w) = ([1.0, 0.0], 1.0 / s.lever);
+        let (f, t) = s.sliding(v, w, 1.0);
+        let n = 400;
+        let (mut gf, mut gt) = ([0.0; 2], 0.0);
+        for i in 0..n {
+            for j in 0..n {
+                let r = [(i as f64 + 0.5) / n as f64 * 2.0 * a - a, (j as f64 + 0.5) / n as f64 * 2.0 * a - a];
+                let u = [v[0] - w * r[1], v[1] + w * r[0]];
+                let l = u[0].hypot(u[1]);
+                gf[0] -= u[0] / l;
+                gf[1] -= u[1] / l;
+                gt -= (r[0] * u[1] - r[1] * u[0]) / l;
+            }
+        }
+        let k = (n * n) as f64;
+        assert!((f[0] - gf[0] / k).abs() <= 1e-3 && (f[1] - gf[1] / k).abs() <= 1e-3, "{f:?} vs {:?}", [gf[0] / k, gf[1] / k]);
+        assert!((t - gt / k).abs() <= 1e-3 * s.lever, "{t} vs {}", gt / k);
+        assert!(f[0].hypot(f[1]) < 0.9 && t.abs() < 0.9 * s.lever);
+    }
+}

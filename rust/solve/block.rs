@@ -413,6 +413,10 @@ impl ContactSolver {
         let (y, ky, r, lambda) = (&mut sc.y, &mut sc.ky, &sc.r, &sc.lambda);
         y.iter_mut().for_each(|v| *v = 0.0);
         ky.iter_mut().for_each(|v| *v = 0.0);
+        // Which patches stuck before this solve.
+        let faces = &self.support.faces[b.faces.0 as usize..b.faces.1 as usize];
+        let stuck: Vec<bool> = faces.iter().map(|&f| !self.patches[f as usize].sliding).collect();
+        let held = |face: u32| faces.iter().position(|&f| f == face).is_some_and(|k| stuck[k]);
         let add = |y: &mut [f64], ky: &mut [f64], i: usize, d: f64| {
             if d != 0.0 {
                 y[i] += d;
@@ -451,9 +455,19 @@ impl ContactSolver {
                             let d = mul3(&inv, res3);
                             let l = [lambda[i] + y[i], lambda[i + 1] + y[i + 1], if twist { lambda[i + 2] + y[i + 2] } else { 0.0 }];
                             let (patch, c) = (&mut self.patches[face as usize], &self.constraints[face as usize]);
-                            // With a zero target, what is left to do is minus the slip.
+                            // A patch that slid before this solve rubs against the slip
+                            // and spin it had then (with a zero target, minus what was
+                            // left to do): what the sweeps leave in between turns with
+                            // the normals' corrections and is not a direction. One that
+                            // stuck breaks away along the impulse that would have held
+                            // it, the direction the net force starts it sliding in.
                             let cand = [l[0] + d[0], l[1] + d[1]];
-                            let (f, t) = patch.settle(c, cand, l[2] + d[2], [-res3[0], -res3[1]], -res3[2], normal);
+                            let (slip, spin) = if held(face) {
+                                ([0.0; 2], 0.0)
+                            } else {
+                                ([-r[i], -r[i + 1]], if twist { -r[i + 2] } else { 0.0 })
+                            };
+                            let (f, t) = patch.settle(c, cand, l[2] + d[2], slip, spin, normal);
                             add(y, ky, i, f[0] - l[0]);
                             add(y, ky, i + 1, f[1] - l[1]);
                             if twist {

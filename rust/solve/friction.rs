@@ -15,12 +15,17 @@
 
 use super::contact::{Constraint, ContactSolver, Point};
 use super::limit_surface::{inside, onto, PatchShape};
-use super::solver_body::{Pair, SolverBody};
+use super::solver_body::{Gap, Pair, SolverBody};
 use crate::math::Vec3;
 
 /// Slip speed (m/s) below which a sliding patch's friction keeps the direction of
 /// the impulse that would stop it: the direction of a slower slip is noise.
 pub(crate) const SLIP_EPS: f64 = 1e-3;
+
+/// How far (m) beyond the nearest point of a manifold (or beyond touching) a
+/// point still counts as part of its patch: far below what a contact resolves,
+/// far above the round-off of a face resting flat.
+const TOUCH: f64 = 1e-4;
 
 /// The friction of one manifold.
 #[derive(Clone, Copy, Debug, Default)]
@@ -67,14 +72,23 @@ impl Patch {
     pub fn set_geometry(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
         let (a1, a2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
         let f = self;
-        let n = points.len() as f64;
-        let r1 = points.iter().map(|p| p.r1).sum::<Vec3>() / n;
-        let r2 = points.iter().map(|p| p.r2).sum::<Vec3>() / n;
+        // The patch is where the bodies touch: a point predicted ahead (the rim of
+        // a spinning top, inches above the floor) carries no friction and must not
+        // move the patch's centre or give it a lever. If none touches yet, the
+        // nearest ones.
+        let gap = Gap::new(bodies, c);
+        let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
+        let reach = nearest.max(0.0) + TOUCH;
+        let touching = |p: &&Point| gap.separation(p) <= reach;
+        let n = points.iter().filter(touching).count().max(1) as f64;
+        let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;
+        let r2 = points.iter().filter(touching).map(|p| p.r2).sum::<Vec3>() / n;
         let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
-        let k = points.len().min(flat.len());
-        for (q, p) in flat.iter_mut().zip(points) {
+        let mut k = 0;
+        for p in points.iter().filter(touching).take(flat.len()) {
             let d = p.r1 - r1;
-            *q = [d.dot(&c.t1), d.dot(&c.t2)];
+            flat[k] = [d.dot(&c.t1), d.dot(&c.t2)];
+            k += 1;
         }
         f.shape = PatchShape::new(&flat[..k]);
         for (k, t) in [c.t1, c.t2].iter().enumerate() {

@@ -392,9 +392,13 @@ impl ContactSolver {
                 return false;
             }
         }
-        for k in b.faces.0..b.faces.1 {
-            let ci = self.support.faces[k as usize];
-            self.patches[ci as usize].sliding = false;
+        // A velocity solve that holds every patch leaves them sticking (a position
+        // pass, whose friction rows are free, says nothing about it).
+        if targets.iter().any(|t| matches!(t, Target::Friction(_))) {
+            for k in b.faces.0..b.faces.1 {
+                let ci = self.support.faces[k as usize];
+                self.patches[ci as usize].sliding = false;
+            }
         }
         true
     }
@@ -455,18 +459,14 @@ impl ContactSolver {
                             let d = mul3(&inv, res3);
                             let l = [lambda[i] + y[i], lambda[i + 1] + y[i + 1], if twist { lambda[i + 2] + y[i + 2] } else { 0.0 }];
                             let (patch, c) = (&mut self.patches[face as usize], &self.constraints[face as usize]);
-                            // A patch that slid before this solve rubs against the slip
-                            // and spin it had then (with a zero target, minus what was
-                            // left to do): what the sweeps leave in between turns with
-                            // the normals' corrections and is not a direction. One that
-                            // stuck breaks away along the impulse that would have held
-                            // it, the direction the net force starts it sliding in.
+                            // A patch that slid before this solve rubs against its slip
+                            // and spin as the sweeps leave them (with a zero target,
+                            // minus what is left to do: Coulomb's law at the solution).
+                            // One that stuck breaks away along the impulse that would
+                            // have held it, the direction the net force starts it
+                            // sliding in: the slip of its first sweeps is noise.
                             let cand = [l[0] + d[0], l[1] + d[1]];
-                            let (slip, spin) = if held(face) {
-                                ([0.0; 2], 0.0)
-                            } else {
-                                ([-r[i], -r[i + 1]], if twist { -r[i + 2] } else { 0.0 })
-                            };
+                            let (slip, spin) = if held(face) { ([0.0; 2], 0.0) } else { ([-res3[0], -res3[1]], -res3[2]) };
                             let (f, t) = patch.settle(c, cand, l[2] + d[2], slip, spin, normal);
                             add(y, ky, i, f[0] - l[0]);
                             add(y, ky, i + 1, f[1] - l[1]);

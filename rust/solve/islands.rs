@@ -1,10 +1,12 @@
 //! Islands and sleeping. Each step, dynamic bodies joined by contacts or joints form islands
 //! (union–find); an island whose bodies have all stayed slower than the sleep
-//! thresholds for `time` goes to sleep: its velocities are zeroed and it leaves
+//! thresholds, and held by their friction (no patch sliding), for `time` goes to
+//! sleep: its velocities are zeroed and it leaves
 //! every stage until an awake body touches it, or the user gives one of its
 //! bodies a velocity or a force.
 
 use super::contact::Constraint;
+use super::friction::Patch;
 use crate::body::{BodyKind, Bodies};
 use crate::math::Vec3;
 
@@ -55,11 +57,12 @@ impl Islands {
     pub fn update(
         &mut self,
         b: &mut Bodies,
-        constraints: &[Constraint],
+        contacts: (&[Constraint], &[Patch]),
         joints: &[(u32, u32)],
         dt: f64,
         s: &SleepSettings,
     ) -> bool {
+        let (constraints, patches) = contacts;
         let n = b.len();
         for i in 0..n {
             self.parent[i] = i as u32;
@@ -70,6 +73,14 @@ impl Islands {
             let w = Vec3::from(b.angular_velocity[i]).norm();
             let forced = b.force[i] != [0.0; 3] || b.torque[i] != [0.0; 3];
             self.rest_time[i] = if v < s.linear && w < s.angular && !forced { self.rest_time[i] + dt } else { 0.0 };
+        }
+        // A body its friction cannot hold is not at rest, however slowly it
+        // slides (a box just past its friction angle starts from nothing).
+        for (c, f) in constraints.iter().zip(patches) {
+            if f.sliding {
+                self.rest_time[c.b1 as usize] = 0.0;
+                self.rest_time[c.b2 as usize] = 0.0;
+            }
         }
         for (i, j) in constraints.iter().map(|c| (c.b1, c.b2)).chain(joints.iter().copied()) {
             if b.awake(i as usize) && b.awake(j as usize) {

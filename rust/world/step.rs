@@ -161,7 +161,7 @@ impl World {
 
     fn sleep(&mut self, dt: f64) {
         let Some(c) = self.collision.as_mut() else { return };
-        if c.islands.update(&mut self.bodies, &c.solver.constraints, self.joints.pairs(), dt, &self.settings.sleep) {
+        if c.islands.update(&mut self.bodies, (&c.solver.constraints, &c.solver.patches), self.joints.pairs(), dt, &self.settings.sleep) {
             self.relist();
         }
     }

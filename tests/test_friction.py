@@ -367,3 +367,91 @@ def test_sliding_contact_points_sit_on_the_cone(mu):
     assert len(c["normal_impulse"]) == 4
     ratio = np.linalg.norm(c["friction_impulse"], axis=1) / c["normal_impulse"]
     np.testing.assert_allclose(ratio, mu, rtol=1e-3)
+
+
+# ---------------------------------------------------------------------------
+# REFERENCES.md "Contacts and joints at default settings": the friction angle
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("degrees", [25.0, 15.0, 40.0])
+@pytest.mark.parametrize("tilted_plane", GEOMETRY, ids=GEOMETRY_IDS)
+def test_friction_angle_holds_just_above_and_slides_just_below(degrees, tilted_plane):
+    # μs = tan θ + 0.01: creeps less than 0.1 mm in 5 s (measured 1e-6 m, the rest
+    # depth it settles into). μ = tan θ − 0.01: slides at g(sin θ − μ cos θ) ± 2 %
+    # (measured within 2e-5) and, with sleeping on (the default), does not fall
+    # asleep while it slides (before: asleep after 8.6 mm of a 165 mm slide).
+    theta = math.radians(degrees)
+    held = math.tan(theta) + 0.01
+    _, _, _, x, _ = incline(theta, held, mu_s=held, tilted_plane=tilted_plane, seconds=5.0)
+    assert np.abs(x).max() < 1e-4
+    mu = math.tan(theta) - 0.01
+    world, block, _, x, v = incline(theta, mu, mu_s=mu, tilted_plane=tilted_plane, seconds=3.0)
+    a_ref = G * (math.sin(theta) - mu * math.cos(theta))
+    t = np.arange(len(v)) * DT
+    a = np.polyfit(t[10:], v[10:], 1)[0]
+    assert abs(a / a_ref - 1) <= 0.02
+    assert not world.bodies.sleeping[block]
+    assert abs(x[-1] / (0.5 * a_ref * t[-1] ** 2) - 1) <= 0.02
+
+
+# ---------------------------------------------------------------------------
+# REFERENCES.md: a top spinning on its tip
+# ---------------------------------------------------------------------------
+
+
+def spinning_top(rate, radius=0.05, height=0.04, tilt_deg=15.0, spin=200.0, mu=1.0):
+    """A solid cone, apex down on a rough floor, in steady precession: the slow
+    root of M g l = φ̇ I3 ω3 − φ̇² I1' cos θ, I1' about the tip, l = 3h/4."""
+    theta = math.radians(tilt_deg)
+    probe = rr.Scene()
+    probe.add_body(rr.Cone(radius, height / 2), density=1000.0)
+    pw = probe.build(dt=0.01)
+    m, (i1, _, i3) = pw.bodies.mass[0], pw.bodies.inertia[0]
+    l = 0.75 * height
+    i1_tip = i1 + m * l * l
+    slow = (i3 * spin - math.sqrt((i3 * spin) ** 2 - 4 * i1_tip * m * G * l * math.cos(theta))) / (2 * i1_tip * math.cos(theta))
+    axis = np.array([math.sin(theta), 0.0, math.cos(theta)])  # apex to centre of mass
+    turn, _ = Rotation.align_vectors([-axis], [[0.0, 0.0, 1.0]])  # the cone's +z (apex) points down the axis
+    omega = (spin - slow * math.cos(theta)) * axis + slow * np.array([0.0, 0.0, 1.0])
+    scene = rr.Scene(gravity=(0.0, 0.0, -G))
+    scene.add_body(rr.Plane(), fixed=True, friction=mu)
+    top = scene.add_body(rr.Cone(radius, height / 2), density=1000.0, position=-turn.apply([0.0, 0.0, height / 2]),
+                         orientation=turn.as_quat(), angular_velocity=omega, linear_velocity=np.cross(omega, l * axis),
+                         friction=mu)
+    return scene.build(dt=1.0 / rate), top, slow, l, theta
+
+
+def top_motion(world, top, l, seconds):
+    """Spin about the axis, tilt (rad), tip position and precession angle after each step."""
+    spins, tilts, tips, phis = [], [], [], []
+    for _ in range(int(round(seconds / world.dt))):
+        world.step(1)
+        axis = -world.bodies.rotation[top][:, 2]
+        spins.append(world.bodies.angular_velocity[top] @ axis)
+        tilts.append(math.acos(axis[2]))
+        tips.append(world.bodies.position[top] - l * axis)
+        phis.append(math.atan2(axis[1], axis[0]))
+    return np.array(spins), np.array(tilts), np.array(tips), np.unwrap(phis)
+
+
+def test_top_on_its_tip_keeps_its_spin_and_precesses_at_the_slow_root():
+    # Only the tip touches: the rim, predicted 2.6 cm above the floor as it sweeps
+    # round at 10 m/s, carries no friction and leaves the patch at the tip (before:
+    # two thirds of the spin lost in 0.1 s, and the top fell). Measured at 120 Hz
+    # over 4 s: spin +0.3 % (bar 1 %), precession +0.7 % (bar 2 %).
+    world, top, slow, l, theta = spinning_top(120)
+    spins, tilts, tips, phis = top_motion(world, top, l, 4.0)
+    assert np.abs(spins / 200.0 - 1).max() <= 0.01
+    t = (np.arange(len(phis)) + 1) * world.dt
+    assert abs(np.polyfit(t, phis, 1)[0] / slow - 1) <= 0.02
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "A contact step is first order in h: the top's tilt drifts +2.45 deg and its tip 17 mm over 4 s at "
+    "120 Hz (+0.59 deg, 4 mm at 480 Hz; the tip's contact sinks 0.8 mm), against REFERENCES' 1 deg and 5 mm."))
+def test_top_on_its_tip_keeps_its_tilt_and_its_tip_in_place():
+    world, top, slow, l, theta = spinning_top(120)
+    spins, tilts, tips, phis = top_motion(world, top, l, 4.0)
+    assert np.abs(np.degrees(tilts - theta)).max() <= 1.0
+    assert np.linalg.norm(tips[:, :2] - tips[0, :2], axis=1).max() <= 5e-3

@@ -269,6 +269,7 @@ class Scene:
         sleep_linear: float = 0.05,
         sleep_angular: float = 0.05,
         sleep_time: float = 0.5,
+        max_rotation_angle: float | None = None,
     ) -> World:
         """Compiles the scene.
 
@@ -282,7 +283,13 @@ class Scene:
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
-        ``iterations`` is also the number of XPBD constraint passes per substep."""
+        ``iterations`` is also the number of XPBD constraint passes per substep.
+        Fast spinners: ``max_rotation_angle`` (rad, default None: the integrator's own,
+        0.15 for strang, 0.4 for yoshida4, 0.6 for suzuki4) is the largest angle a body
+        may turn by per rotation substep of the split integrators, taken at the largest
+        ``|ω|`` of its free orbit; an asymmetric body that would turn more per step
+        takes that many more rotation substeps, alone (stage ``rotate_fast``);
+        ``math.inf`` never subdivides (the bare method)."""
     @property
     def particle_count(self) -> int:
         """Number of particles added so far."""

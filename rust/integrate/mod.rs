@@ -115,6 +115,29 @@ impl Integrator {
         })
     }
 
+    /// The largest angle (rad) one step of the method may turn an asymmetric body
+    /// by, taken at the largest `|ω|` of its free orbit, before that body's
+    /// rotation is subdivided ([`free_rotation::Substeps`]); infinite for the
+    /// methods that do not rotate by the split.
+    ///
+    /// Measured (`examples/spinner_calibration.rs`: 17 bodies and orbits, boxes,
+    /// plates, a near-symmetric rod, moment ratios 1:1.1:3 to 1:2.9:3, near each
+    /// axis, 400 periods each): the largest angle at which the worst body keeps
+    /// its energy within 1/3 of the REFERENCES.md fast-spinner bar (1e-3) and its
+    /// period within 1/3 of its bar (1 %). strang: 0.15 rad (worst energy 2.6e-4,
+    /// period 8.0e-4; at 0.2: 4.5e-4); yoshida4: 0.4 (3.5e-5, 1.4e-3; at 0.5 the
+    /// period is off by 3.4e-3); suzuki4: 0.6 (2.8e-5, 9.4e-5), two thirds of the
+    /// 0.9 rad where its error leaves the fourth-order trend (period 2.8e-4 at 0.8,
+    /// 1.1e-2 at 0.9).
+    pub fn max_split_angle(self) -> f64 {
+        match self {
+            Integrator::Strang => 0.15,
+            Integrator::Yoshida4 => 0.4,
+            Integrator::Suzuki4 => 0.6,
+            _ => f64::INFINITY,
+        }
+    }
+
     /// The splitting this method is, or `None` for RK4 (one monolithic stage).
     pub fn splitting(self) -> Option<Splitting> {
         match self {

@@ -149,7 +149,7 @@ impl PyScene {
     #[pyo3(signature = (dt, integrator="strang", substeps=None, iterations=1, *, sleep=true,
                         restitution_threshold=1.0, slop=0.005, contact_hertz=30.0,
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
-                        sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5))]
+                        sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5, max_rotation_angle=None))]
     #[allow(clippy::too_many_arguments)]
     fn build(
         &self,
@@ -166,6 +166,7 @@ impl PyScene {
         sleep_linear: f64,
         sleep_angular: f64,
         sleep_time: f64,
+        max_rotation_angle: Option<f64>,
     ) -> PyResult<PyWorld> {
         let mut s = Settings::new(dt);
         s.integrator = Integrator::from_name(integrator).py_err()?;
@@ -176,6 +177,7 @@ impl PyScene {
         s.iterations = small(iterations, "iterations")?;
         s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, slop };
         s.sleep = SleepSettings { enabled: sleep, linear: sleep_linear, angular: sleep_angular, time: sleep_time };
+        s.max_rotation_angle = max_rotation_angle;
         Ok(PyWorld::new(self.inner.build(&s).py_err()?))
     }
 }

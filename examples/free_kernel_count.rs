@@ -19,7 +19,11 @@
 //! ```
 //!
 //! It prints a checksum of the final state, so that two builds can also be
-//! checked for bit-identical results on this scene.
+//! checked for bit-identical results on this scene. Optional third and fourth
+//! arguments: the step `DT` (s, default 1/240; at 1/60 the 5 rad/s boxes turn by
+//! up to 0.1 rad per step, near the default 0.15 rad limit of the rotation
+//! substeps) and `rod`, which adds one thin rod (1 m × 1 cm × 2 cm, I_max/I_min ≈
+//! 2000) at 5 rad/s to the same list.
 
 use rigidrs::body::Shape;
 use rigidrs::collide::Filter;
@@ -56,7 +60,7 @@ impl Rng {
     }
 }
 
-fn build() -> Result<World, String> {
+fn build(dt: f64, rod: bool) -> Result<World, String> {
     let mut scene = Scene::new([0.0; 3]).map_err(|e| e.message)?;
     let shape = Shape::cuboid([0.05, 0.1, 0.2]).map_err(|e| e.message)?;
     let mut rng = Rng(SEED);
@@ -73,7 +77,18 @@ fn build() -> Result<World, String> {
         };
         scene.add_body(spec).map_err(|e| e.message)?;
     }
-    scene.build(&Settings::new(DT)).map_err(|e| e.message)
+    if rod {
+        let spec = BodySpec {
+            shape: Some(Shape::cuboid([0.005, 0.01, 0.5]).map_err(|e| e.message)?),
+            density: Some(1000.0),
+            position: [-10.0, 0.0, 0.0],
+            angular_velocity: rng.unit::<3>().map(|x| OMEGA * x),
+            filter: Filter { group: 1, mask: 0 },
+            ..Default::default()
+        };
+        scene.add_body(spec).map_err(|e| e.message)?;
+    }
+    scene.build(&Settings::new(dt)).map_err(|e| e.message)
 }
 
 #[inline(never)]
@@ -84,12 +99,13 @@ fn run_step(world: &mut World, steps: u64) -> Result<(), String> {
 #[inline(never)]
 fn run_kernel(world: &mut World, lists: &BodyLists, steps: u64) {
     // The default limit on the rotation per split, as the world uses it.
-    let sub = free_rotation::Substeps::new(world.settings().rotation_angle(), DT, &[1.0]);
+    let dt = world.dt();
+    let sub = free_rotation::Substeps::new(world.settings().rotation_angle(), dt, &[1.0]);
     let mut fast = Vec::new();
     for _ in 0..steps {
-        drift::translate(&mut world.bodies, &lists.dynamic, std::hint::black_box(DT));
+        drift::translate(&mut world.bodies, &lists.dynamic, std::hint::black_box(dt));
         let (b, spread) = (&mut world.bodies, lists.asymmetric_spread);
-        free_rotation::rotate_asymmetric(b, &lists.asymmetric, spread, std::hint::black_box(DT), sub, &mut fast);
+        free_rotation::rotate_asymmetric(b, &lists.asymmetric, spread, std::hint::black_box(dt), sub, &mut fast);
     }
     assert!(fast.is_empty(), "no body of this scene turns fast enough for rotation substeps");
 }
@@ -98,7 +114,8 @@ fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mode = args.first().map_or("step", String::as_str);
     let steps: u64 = args.get(1).map_or(Ok(20), |s| s.parse()).map_err(|e| format!("STEPS: {e}"))?;
-    let mut world = build()?;
+    let dt: f64 = args.get(2).map_or(Ok(DT), |s| s.parse()).map_err(|e| format!("DT: {e}"))?;
+    let mut world = build(dt, args.get(3).is_some_and(|s| s == "rod"))?;
     world.profile.enabled = false;
     match mode {
         "step" => {

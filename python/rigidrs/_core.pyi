@@ -555,7 +555,9 @@ class World:
     def integrator(self) -> str: ...
     @property
     def stages(self) -> list[str]:
-        """Names of the stages one (sub)step runs now, in order."""
+        """Names of the stages one (sub)step runs now, in order. ``rotate_fast`` is listed
+        while some body turns too fast for one split of its rotation per step (see
+        ``max_rotation_angle`` of ``Scene.build``)."""
     def profile(self, reset: bool = True) -> dict[str, Any]:
         """Seconds per stage since the last reset, and ``"steps"``: the steps covered."""
     @property

@@ -237,7 +237,7 @@ fn pipeline(c: &mut Criterion) {
             let t0 = Clock::start();
             for _ in 0..iters {
                 drift::translate(&mut bodies, &lists.dynamic, black_box(DT));
-                let spread = lists.asymmetric_spread;
+                let spread = &lists.asymmetric_inv_spread;
                 free_rotation::rotate_asymmetric(&mut bodies, &lists.asymmetric, spread, black_box(DT), sub, &mut fast);
             }
             t0.elapsed()

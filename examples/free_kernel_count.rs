@@ -104,7 +104,7 @@ fn run_kernel(world: &mut World, lists: &BodyLists, steps: u64) {
     let mut fast = Vec::new();
     for _ in 0..steps {
         drift::translate(&mut world.bodies, &lists.dynamic, std::hint::black_box(dt));
-        let (b, spread) = (&mut world.bodies, lists.asymmetric_spread);
+        let (b, spread) = (&mut world.bodies, &lists.asymmetric_inv_spread);
         free_rotation::rotate_asymmetric(b, &lists.asymmetric, spread, std::hint::black_box(dt), sub, &mut fast);
     }
     assert!(fast.is_empty(), "no body of this scene turns fast enough for rotation substeps");

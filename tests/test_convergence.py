@@ -67,7 +67,7 @@ def error_at_t(integrator: str, n: int, r_ref: np.ndarray, w_ref: np.ndarray) ->
     # The bare method: its coarsest steps turn the body by up to h·W = 0.38 (strang) to
     # 1.9 rad (suzuki4) per step (W = 1.88 rad/s, the largest |ω| of the orbit), where
     # the automatic rotation substeps would subdivide them (above max_rotation_angle,
-    # 0.15 / 0.4 / 0.6 rad) and flatten the slope.
+    # 0.2 / 0.5 / 0.6 rad) and flatten the slope.
     world = scene.build(dt=T / n, integrator=integrator, max_rotation_angle=math.inf)
     world.profiling = False
     world.step(n)

@@ -285,7 +285,7 @@ class Scene:
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
         ``iterations`` is also the number of XPBD constraint passes per substep.
         Fast spinners: ``max_rotation_angle`` (rad, default None: the integrator's own,
-        0.15 for strang, 0.4 for yoshida4, 0.6 for suzuki4) is the largest angle a body
+        0.2 for strang, 0.5 for yoshida4, 0.6 for suzuki4) is the largest angle a body
         may turn by per rotation substep of the split integrators, taken at the largest
         ``|ω|`` of its free orbit; an asymmetric body that would turn more per step
         takes that many more rotation substeps, alone (stage ``rotate_fast``);

@@ -51,10 +51,12 @@ pub struct BodyLists {
     pub symmetric_index: Vec<u32>,
     pub asymmetric_index: Vec<u32>,
     pub anisotropic_index: Vec<u32>,
-    /// The largest `I_max / I_min` of the bodies in `asymmetric` (1 when there are
-    /// none): with it, `free_rotation::rotate_asymmetric` clears a body for one
-    /// split from its world `|ω|` alone (`W² ≤ (I_max/I_min) |ω|²`).
-    pub asymmetric_spread: f64,
+    /// The smallest `I_min / I_max` of each run of four of `asymmetric` (the groups
+    /// of `free_rotation::rotate_asymmetric`, the last one shorter): with it, a
+    /// body is cleared for one split from its world `|ω|` alone
+    /// (`W² ≤ (I_max/I_min) |ω|²`); a thin body only costs its own group the
+    /// exact test.
+    pub asymmetric_inv_spread: Vec<f64>,
 }
 
 impl BodyLists {
@@ -99,8 +101,10 @@ impl BodyLists {
 
     fn index(&mut self) {
         // `coef[0] + coef[2] = 1/I_min`, `coef[0] + coef[1] = 1/I_max` (see `classify`).
-        self.asymmetric_spread =
-            self.asymmetric.iter().map(|a| (a.coef[0] + a.coef[2]) / (a.coef[0] + a.coef[1])).fold(1.0, f64::max);
+        self.asymmetric_inv_spread.clear();
+        self.asymmetric_inv_spread.extend(self.asymmetric.chunks(4).map(|g| {
+            g.iter().map(|a| (a.coef[0] + a.coef[1]) / (a.coef[0] + a.coef[2])).fold(1.0, f64::min)
+        }));
         self.symmetric_index.clear();
         self.symmetric_index.extend(self.symmetric.iter().map(|a| a.index));
         self.asymmetric_index.clear();

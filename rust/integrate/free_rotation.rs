@@ -26,9 +26,16 @@ use crate::math::{quat, Quat, Vec3};
 /// Body-frame angular momentum from the stored world angular velocity.
 #[inline(always)]
 fn load(b: &Bodies, i: usize) -> (Quat, Vec3) {
+    let (q, _, lb) = load_omega(b, i);
+    (q, lb)
+}
+
+/// [`load`], with the body-frame angular velocity it computes on the way.
+#[inline(always)]
+fn load_omega(b: &Bodies, i: usize) -> (Quat, Vec3, Vec3) {
     let q = b.q(i);
     let wb = quat::rotate_inv(&q, &Vec3::from(b.angular_velocity[i]));
-    (q, wb.component_mul(&Vec3::from(b.inertia[i])))
+    (q, wb, wb.component_mul(&Vec3::from(b.inertia[i])))
 }
 
 /// Writes the orientation back (renormalised) and the world angular velocity.
@@ -172,6 +179,20 @@ fn orbit_max_omega2(c: &[f64; 3], x: [f64; 3]) -> f64 {
     end_a.max(other)
 }
 
+/// Whether `W² > max_rate2`, as [`orbit_max_omega2`] without its divisions
+/// (each end's value is compared times its positive denominator).
+#[inline(always)]
+fn orbit_max_omega2_exceeds(c: &[f64; 3], x: [f64; 3], max_rate2: f64) -> bool {
+    let [ca, cb, cc] = *c;
+    let d = cc - cb;
+    let p = cc * x[0] + d * x[1];
+    let q = d * x[2] - cb * x[0];
+    let (ga, gb, gc) = (ca * ca, (ca + cb) * (ca + cb), (ca + cc) * (ca + cc));
+    let split = cb * x[1] + cc * x[2];
+    let (other, den) = if split >= 0.0 { (ga * p + gc * split, cc) } else { (ga * q - gb * split, -cb) };
+    gb * p + gc * q > max_rate2 * d || other > max_rate2 * den
+}
+
 /// `W²` of the body `a` with body momentum `lb`.
 #[inline(always)]
 fn orbit_max_omega2_of(a: &Aniso, lb: &Vec3) -> f64 {
@@ -229,20 +250,30 @@ pub fn rotate_symmetric(b: &mut Bodies, list: &[Aniso], h: f64) {
 /// A body that turns too fast for one split (`sub`) is left as it is and
 /// appended to `fast`, for [`rotate_fast`] with the same `h` and `sub`. The
 /// test costs the other bodies five flops each and changes nothing for them: a
-/// group passes when the largest `|ω|²` of its bodies (world frame, as stored)
-/// is at most `max_rate² / spread`, which bounds their orbits' `W²` by
-/// `max_rate²` (`W² ≤ 2E/I_min ≤ (I_max/I_min) |ω|²`; `spread` is the largest
-/// `I_max/I_min` of the list, [`crate::integrate::BodyLists::asymmetric_spread`],
-/// or more). Otherwise its bodies take the exact test of [`orbit_max_omega`];
-/// one that fails it goes to `fast`, the others through the one-body kernel,
-/// bit-identical. A NaN state compares false and takes the single split, as
-/// before.
-pub fn rotate_asymmetric(b: &mut Bodies, list: &[Aniso], spread: f64, h: f64, sub: Substeps, fast: &mut Vec<Aniso>) {
+/// group passes when the largest world `|ω|²` of its bodies (as stored) is at
+/// most `max_rate² · inv_spread[k]` (group `k`: bodies `4k..4k + 4`, the
+/// remainder last), which bounds their orbits' `W²` by `max_rate²`
+/// (`W² ≤ 2E/I_min ≤ (I_max/I_min) |ω|²`; `inv_spread` is
+/// [`crate::integrate::BodyLists::asymmetric_inv_spread`], or smaller; missing
+/// entries count as 0). Otherwise the group takes the checked kernel, which tests
+/// each body on its body frame (`2E/I_min`, then the exact `W` of
+/// [`orbit_max_omega`]); one that fails goes to `fast`, the others through the
+/// one-body kernel, bit-identical. A NaN state compares false and takes the
+/// single split, as before.
+pub fn rotate_asymmetric(
+    b: &mut Bodies,
+    list: &[Aniso],
+    inv_spread: &[f64],
+    h: f64,
+    sub: Substeps,
+    fast: &mut Vec<Aniso>,
+) {
     let max_rate2 = sub.max_rate * sub.max_rate;
-    let quick = max_rate2 / spread.max(1.0);
     let omega2 = |b: &Bodies, a: &Aniso| Vec3::from(b.angular_velocity[a.index as usize]).norm_squared();
     let mut groups = list.chunks_exact(4);
+    let mut spreads = inv_spread.iter().copied().chain(std::iter::repeat(0.0));
     for g in &mut groups {
+        let quick = max_rate2 * spreads.next().unwrap_or(0.0);
         // NaN is skipped by the comparison: such a body takes the single split.
         let mut w2: f64 = 0.0;
         for a in g {
@@ -261,8 +292,9 @@ pub fn rotate_asymmetric(b: &mut Bodies, list: &[Aniso], spread: f64, h: f64, su
             }
         }
     }
+    let last = max_rate2 * spreads.next().unwrap_or(0.0);
     for a in groups.remainder() {
-        one(b, a, h, quick, max_rate2, fast);
+        one(b, a, h, last, max_rate2, fast);
     }
 }
 
@@ -287,7 +319,7 @@ pub fn rotate_asymmetric_unchecked(b: &mut Bodies, list: &[Aniso], h: f64) {
 #[inline(always)]
 fn one(b: &mut Bodies, a: &Aniso, h: f64, quick: f64, max_rate2: f64, fast: &mut Vec<Aniso>) {
     if Vec3::from(b.angular_velocity[a.index as usize]).norm_squared() > quick {
-        check_exactly::<1>(b, [a], h, max_rate2, fast);
+        check_one(b, a, h, max_rate2, fast);
     } else {
         asymmetric_dispatch::<1>(b, [a], h);
     }
@@ -401,10 +433,46 @@ fn asymmetric_dispatch<const K: usize>(b: &mut Bodies, a: [&Aniso; K], h: f64) {
 
 #[inline(always)]
 fn asymmetric_k<const JB: usize, const JC: usize, const K: usize>(b: &mut Bodies, a: [&Aniso; K], h: f64) {
+    asymmetric_checked_k::<JB, JC, K, false>(b, a, h, f64::INFINITY, &mut Vec::new());
+}
+
+/// The group kernel; with `CHECK`, it first tests each loaded body exactly
+/// (`W² > max_rate2`) and, if one is too fast, hands the group, untouched, to
+/// [`split_off_fast`]. Without `CHECK` the test is compiled out.
+#[inline(always)]
+fn asymmetric_checked_k<const JB: usize, const JC: usize, const K: usize, const CHECK: bool>(
+    b: &mut Bodies,
+    a: [&Aniso; K],
+    h: f64,
+    max_rate2: f64,
+    fast: &mut Vec<Aniso>,
+) {
     let mut q = [Quat::identity(); K];
     let mut lb = [Vec3::zeros(); K];
+    // With `CHECK`, the bound `W² ≤ 2E / I_min` (`|ω|² = Σ L_j ω_j / I_j`), five
+    // flops on the body frame the kernel computes anyway, clears most bodies; the
+    // exact `W²` only the others.
+    let mut maybe = [false; K];
     for m in 0..K {
-        (q[m], lb[m]) = load(b, a[m].index as usize);
+        let i = a[m].index as usize;
+        if CHECK {
+            let (qm, wb, l) = load_omega(b, i);
+            (q[m], lb[m]) = (qm, l);
+            let c = &a[m].coef;
+            maybe[m] = wb.dot(&l) * (c[0] + c[2]) > max_rate2;
+        } else {
+            (q[m], lb[m]) = load(b, i);
+        }
+    }
+    if CHECK && maybe.contains(&true) {
+        let ja = 3 - JB - JC;
+        let too: [bool; K] = std::array::from_fn(|m| {
+            let x = [lb[m][ja] * lb[m][ja], lb[m][JB] * lb[m][JB], lb[m][JC] * lb[m][JC]];
+            maybe[m] && orbit_max_omega2_exceeds(&a[m].coef, x, max_rate2)
+        });
+        if too.contains(&true) {
+            return split_off_fast::<K>(b, a, h, too, fast);
+        }
     }
     let (mut hb, mut hc) = ([0.0; K], [0.0; K]);
     for m in 0..K {
@@ -422,33 +490,48 @@ fn asymmetric_k<const JB: usize, const JC: usize, const K: usize>(b: &mut Bodies
     }
 }
 
-/// [`check_exactly`] for a group of four given as a slice (so that the caller
-/// need not lay out the group's references for a call it rarely makes).
+/// A group of four the quick test could not clear, given as a slice (so that the
+/// caller need not lay out the group's references for a call it rarely makes):
+/// the checked group kernel.
 #[cold]
 #[inline(never)]
 fn check_group(b: &mut Bodies, g: &[Aniso], h: f64, max_rate2: f64, fast: &mut Vec<Aniso>) {
-    check_exactly::<4>(b, [&g[0], &g[1], &g[2], &g[3]], h, max_rate2, fast);
+    checked_dispatch::<4>(b, [&g[0], &g[1], &g[2], &g[3]], h, max_rate2, fast);
 }
 
-/// `K` bodies whose quick test could not clear them: the test of each (its own
-/// bound, then the exact `W`), then the group kernel if none is too fast (the
-/// common case at coarse steps, or beside a much thinner body),
-/// else the fast ones to `fast` and the others through the one-body kernel
-/// (bit-identical to the group's). Out of line: rare at ordinary rates.
+/// One body the quick test could not clear: the checked one-body kernel.
 #[cold]
 #[inline(never)]
-fn check_exactly<const K: usize>(b: &mut Bodies, a: [&Aniso; K], h: f64, max_rate2: f64, fast: &mut Vec<Aniso>) {
-    // First the body's own form of the quick bound, `|ω|² / I_min ≤ max_rate² / I_max`
-    // (the list's largest `I_max/I_min` may belong to another, thinner body), then
-    // the exact `W²`, which needs the body frame.
-    let too: [bool; K] = std::array::from_fn(|m| {
-        let (c, w) = (&a[m].coef, Vec3::from(b.angular_velocity[a[m].index as usize]));
-        w.norm_squared() * (c[0] + c[2]) > max_rate2 * (c[0] + c[1])
-            && orbit_max_omega2_of(a[m], &load(b, a[m].index as usize).1) > max_rate2
-    });
-    if !too.contains(&true) {
-        return asymmetric_dispatch::<K>(b, a, h);
+fn check_one(b: &mut Bodies, a: &Aniso, h: f64, max_rate2: f64, fast: &mut Vec<Aniso>) {
+    checked_dispatch::<1>(b, [a], h, max_rate2, fast);
+}
+
+/// [`asymmetric_dispatch`] to the checked kernels.
+#[inline(always)]
+fn checked_dispatch<const K: usize>(b: &mut Bodies, a: [&Aniso; K], h: f64, max_rate2: f64, fast: &mut Vec<Aniso>) {
+    match (a[0].axes[1], a[0].axes[2]) {
+        (0, 1) => asymmetric_checked_k::<0, 1, K, true>(b, a, h, max_rate2, fast),
+        (0, 2) => asymmetric_checked_k::<0, 2, K, true>(b, a, h, max_rate2, fast),
+        (1, 0) => asymmetric_checked_k::<1, 0, K, true>(b, a, h, max_rate2, fast),
+        (1, 2) => asymmetric_checked_k::<1, 2, K, true>(b, a, h, max_rate2, fast),
+        (2, 0) => asymmetric_checked_k::<2, 0, K, true>(b, a, h, max_rate2, fast),
+        (2, 1) => asymmetric_checked_k::<2, 1, K, true>(b, a, h, max_rate2, fast),
+        // Not an axis order `classify` gives: axes read at run time.
+        _ => a.iter().for_each(|a| {
+            if orbit_max_omega(b, a).powi(2) > max_rate2 {
+                fast.push(**a);
+            } else {
+                rotate_asymmetric_one(b, a, h)
+            }
+        }),
     }
+}
+
+/// A group with a body too fast for one split, as stored: the fast ones go to
+/// `fast`, the others through the one-body kernel (bit-identical to the group's).
+#[cold]
+#[inline(never)]
+fn split_off_fast<const K: usize>(b: &mut Bodies, a: [&Aniso; K], h: f64, too: [bool; K], fast: &mut Vec<Aniso>) {
     for m in 0..K {
         if too[m] {
             fast.push(*a[m]);
@@ -491,7 +574,7 @@ mod tests {
         let (mut fast, mut reference) = (bodies.clone(), bodies);
         for _ in 0..50 {
             let mut too_fast = Vec::new();
-            let (spread, never) = (lists.asymmetric_spread, Substeps::NEVER);
+            let (spread, never) = (&lists.asymmetric_inv_spread, Substeps::NEVER);
             rotate_asymmetric(&mut fast, &lists.asymmetric, spread, 1.0 / 240.0, never, &mut too_fast);
             assert!(too_fast.is_empty());
             for a in &lists.asymmetric {
@@ -574,10 +657,10 @@ mod tests {
         let lists = BodyLists::new(&bodies);
         let h = 1.0 / 60.0;
         let weights = [1.0];
-        let sub = Substeps::new(0.15, h, &weights);
+        let sub = Substeps::new(0.2, h, &weights);
         let (mut grouped, mut reference) = (bodies.clone(), bodies.clone());
         let mut fast = Vec::new();
-        rotate_asymmetric(&mut grouped, &lists.asymmetric, lists.asymmetric_spread, h, sub, &mut fast);
+        rotate_asymmetric(&mut grouped, &lists.asymmetric, &lists.asymmetric_inv_spread, h, sub, &mut fast);
         let listed: Vec<usize> = fast.iter().map(|a| a.index as usize).collect();
         assert_eq!(listed, fast_ones);
         for a in &lists.asymmetric {
@@ -594,15 +677,15 @@ mod tests {
 
     /// The fast path (half flows merged, one `A` at the end, `|L|` restored) is the
     /// composition repeated `n` times, to round-off: against `n` Yoshida steps of
-    /// `rotate_asymmetric_one` (1e-12: a few ulp per flow over 3 × 40 splits).
+    /// `rotate_asymmetric_one` (1e-12: a few ulp per flow over 3 × 21 splits).
     #[test]
     fn fast_path_is_the_repeated_composition() {
         let weights = crate::integrate::composition::yoshida4().drifts;
         let (b0, a) = one_body([0.80833, 0.68333, 0.14167], [9.6, 480.0, 9.6], [0.3, -0.2, 0.5]);
         let h = 1.0 / 60.0;
-        let sub = Substeps::new(0.4, h, &weights);
+        let sub = Substeps::new(0.5, h, &weights);
         let n = sub.count(orbit_max_omega(&b0, &a), h);
-        assert_eq!(n, 26); // ⌈1.2613 · 480.04 / 60 / 0.4⌉
+        assert_eq!(n, 21); // ⌈1.2613 · 480.04 / 60 / 0.5⌉
         let (mut fast, mut plain) = (b0.clone(), b0);
         rotate_fast(&mut fast, &[a], h, sub);
         for _ in 0..n {
@@ -616,14 +699,14 @@ mod tests {
     }
 
     /// `|L|` through many substeps stays at round-off: 1000 steps of a body taking
-    /// 68 splits each (68 000 splits), world `L` within 1e-13.
+    /// 51 splits each (51 000 splits), world `L` within 1e-13.
     #[test]
     fn fast_path_keeps_angular_momentum() {
         let (mut b, a) = one_body([0.80833, 0.68333, 0.14167], [9.6, 480.0, 9.6], [0.3, -0.2, 0.5]);
         let l0 = b.spin_momentum(0);
         let h = 1.0 / 60.0;
-        let sub = Substeps::new(0.15, h, &[1.0]);
-        assert_eq!(sub.count(orbit_max_omega(&b, &a), h), 68);
+        let sub = Substeps::new(0.2, h, &[1.0]);
+        assert_eq!(sub.count(orbit_max_omega(&b, &a), h), 51);
         for _ in 0..1000 {
             rotate_fast(&mut b, &[a], h, sub);
         }

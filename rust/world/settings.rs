@@ -21,7 +21,7 @@ pub struct Settings {
     /// integrators (`strang`, `yoshida4`, `suzuki4`), taken at the largest `|ω|`
     /// of its free orbit: an asymmetric body over it has its rotation subdivided,
     /// alone (`integrate::free_rotation::Substeps`). Default (`None`): the
-    /// integrator's own, [`Integrator::max_split_angle`] (0.15, 0.4, 0.6 rad);
+    /// integrator's own, [`Integrator::max_split_angle`] (0.2, 0.5, 0.6 rad);
     /// `f64::INFINITY` never subdivides (the bare method, for convergence studies).
     pub max_rotation_angle: Option<f64>,
     pub solver: SolverSettings,

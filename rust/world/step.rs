@@ -98,7 +98,7 @@ impl World {
                     // per step, so that each sits out exactly the drifts of this step.
                     let sub = Substeps::new(self.settings.rotation_angle(), step, &self.fast_weights);
                     self.fast.clear();
-                    let (list, spread) = (&l.asymmetric, l.asymmetric_spread);
+                    let (list, spread) = (&l.asymmetric, &l.asymmetric_inv_spread);
                     free_rotation::rotate_asymmetric(&mut self.bodies, list, spread, hf, sub, &mut self.fast);
                     if !self.fast.is_empty() && self.fast_weights.len() > 1 {
                         slow_list(&l.asymmetric, &self.fast, &mut self.slow, &mut self.fast_mark);

@@ -21,9 +21,9 @@
 //! It prints a checksum of the final state, so that two builds can also be
 //! checked for bit-identical results on this scene. Optional third and fourth
 //! arguments: the step `DT` (s, default 1/240; at 1/60 the 5 rad/s boxes turn by
-//! up to 0.1 rad per step, near the default 0.15 rad limit of the rotation
-//! substeps) and `rod`, which adds one thin rod (1 m × 1 cm × 2 cm, I_max/I_min ≈
-//! 2000) at 5 rad/s to the same list.
+//! up to 0.1 rad per step, half strang's 0.2 rad limit of the rotation substeps)
+//! and `rod`, which adds one thin rod (1 m × 1 cm × 2 cm, I_max/I_min ≈ 2000) at
+//! 5 rad/s to the same list.
 
 use rigidrs::body::Shape;
 use rigidrs::collide::Filter;

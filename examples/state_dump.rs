@@ -18,6 +18,7 @@
 use std::io::{Read, Write};
 
 use rigidrs::body::Shape;
+use rigidrs::collide::Filter;
 use rigidrs::integrate::Integrator;
 use rigidrs::world::{BodySpec, Scene, Settings};
 
@@ -51,6 +52,8 @@ fn run(steps: u64, perturb: bool) -> Vec<(String, Vec<f64>)> {
                             omega * a.sin() * 0.9,
                             omega * (0.3 * a).cos(),
                         ],
+                        // Free bodies: the shapes give the mass properties and collide with nothing.
+                        filter: Filter { group: 1, mask: 0 },
                         ..Default::default()
                     };
                     scene.add_body(spec).unwrap();
@@ -58,7 +61,11 @@ fn run(steps: u64, perturb: bool) -> Vec<(String, Vec<f64>)> {
                 let mut settings = Settings::new(1.0 / 240.0);
                 settings.integrator = integrator;
                 let mut world = scene.build(&settings).unwrap();
-                world.step(steps).unwrap();
+                // A method that blows up (euler, symplectic_euler on the fast rods) ends
+                // with non-finite states: those are compared bit for bit like the rest.
+                if let Err(e) = world.step(steps) {
+                    eprintln!("{name} {}: {}", integrator.name(), e.message);
+                }
                 let b = &world.bodies;
                 let mut v = Vec::with_capacity(N * FIELDS);
                 for i in 0..N {
@@ -109,7 +116,8 @@ fn main() {
                 let dq = max_abs(&diff, 3..7);
                 let dp = max_abs(&diff, 0..3) / max_abs(old, 0..3);
                 let dw = max_abs(&diff, 10..13) / max_abs(old, 10..13);
-                let same = diff.chunks(FIELDS).filter(|c| c.iter().all(|&x| x == 0.0)).count() as f64 / N as f64;
+                let bits_equal = |(a, b): (&[f64], &[f64])| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+                let same = old.chunks(FIELDS).zip(new.chunks(FIELDS)).filter(|&p| bits_equal(p)).count() as f64 / N as f64;
                 worst = worst.max(dq.max(dp).max(dw));
                 println!("{label:34} {dq:10.1e} {dp:10.1e} {dw:10.1e} {same:10.2}");
             }

@@ -341,6 +341,9 @@ BUILD = {
     "integrator not a string": (dict(dt=DT, integrator=4), TypeError, ["integrator"]),
     "dt not a number": (dict(dt="fast"), TypeError, ["dt"]),
     "zero substeps": (dict(dt=DT, substeps=0), rr.RigidError, ["substeps"]),
+    **{f"max_rotation_angle={a}": (dict(dt=DT, max_rotation_angle=a), rr.RigidError, ["max_rotation_angle"])
+       for a in (0.0, -0.1, NAN, -INF)},
+    "max_rotation_angle not a number": (dict(dt=DT, max_rotation_angle="small"), TypeError, ["max_rotation_angle"]),
 }
 
 

@@ -51,6 +51,12 @@ pub struct BodyLists {
     pub symmetric_index: Vec<u32>,
     pub asymmetric_index: Vec<u32>,
     pub anisotropic_index: Vec<u32>,
+    /// The smallest `I_min / I_max` of each run of four of `asymmetric` (the groups
+    /// of `free_rotation::rotate_asymmetric`, the last one shorter): with it, a
+    /// body is cleared for one split from its world `|ω|` alone
+    /// (`W² ≤ (I_max/I_min) |ω|²`); a thin body only costs its own group the
+    /// exact test.
+    pub asymmetric_inv_spread: Vec<f64>,
 }
 
 impl BodyLists {
@@ -108,6 +114,11 @@ impl BodyLists {
     }
 
     fn index(&mut self) {
+        // `coef[0] + coef[2] = 1/I_min`, `coef[0] + coef[1] = 1/I_max` (see `classify`).
+        self.asymmetric_inv_spread.clear();
+        self.asymmetric_inv_spread.extend(self.asymmetric.chunks(4).map(|g| {
+            g.iter().map(|a| (a.coef[0] + a.coef[1]) / (a.coef[0] + a.coef[2])).fold(1.0, f64::min)
+        }));
         self.symmetric_index.clear();
         self.symmetric_index.extend(self.symmetric.iter().map(|a| a.index));
         self.asymmetric_index.clear();

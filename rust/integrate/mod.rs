@@ -115,6 +115,33 @@ impl Integrator {
         })
     }
 
+    /// The largest angle (rad) one step of the method may turn an asymmetric body
+    /// by, taken at the largest `|ω|` of its free orbit, before that body's
+    /// rotation is subdivided ([`free_rotation::Substeps`]); infinite for the
+    /// methods that do not rotate by the split.
+    ///
+    /// Measured (`examples/spinner_calibration.rs`: 17 bodies and orbits, boxes,
+    /// plates, a near-symmetric rod, moment ratios 1:1.1:3 to 1:2.9:3, near each
+    /// axis, 400 periods each): the largest angle at which the worst body keeps its
+    /// energy and its period within half the REFERENCES.md fast-spinner bars (1e-3,
+    /// 1 %). strang: 0.2 rad (worst energy 4.5e-4, period 1.4e-3; at 0.3: 1.0e-3;
+    /// the worked box of REFERENCES.md 3.6e-4 and 6.9e-4); yoshida4: 0.5 (8.2e-5,
+    /// 3.4e-3; at 0.6 the period is off by 7.2e-3); suzuki4: 0.6 (2.8e-5, 9.4e-5),
+    /// two thirds of the 0.9 rad where its error leaves the fourth-order trend
+    /// (period 2.8e-4 at 0.8, 1.1e-2 at 0.9). A smaller angle buys accuracy at the
+    /// fast body's cost (`max_rotation_angle`); a third of the bars would mean
+    /// 0.15 / 0.4 / 0.6, and with 0.15 strang would test 10 000 boxes turning
+    /// 5 rad/s at dt = 1/60 s exactly every step (8 % of its kernel) instead of
+    /// clearing them from their `|ω|`.
+    pub fn max_split_angle(self) -> f64 {
+        match self {
+            Integrator::Strang => 0.2,
+            Integrator::Yoshida4 => 0.5,
+            Integrator::Suzuki4 => 0.6,
+            _ => f64::INFINITY,
+        }
+    }
+
     /// The splitting this method is, or `None` for RK4 (one monolithic stage).
     pub fn splitting(self) -> Option<Splitting> {
         match self {

@@ -186,7 +186,8 @@ impl PyScene {
                         restitution_threshold=1.0, slop=0.005, contact_hertz=30.0,
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
                         sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5,
-                        articulations=true, articulation_integrator="leapfrog", articulation_substeps=None))]
+                        articulations=true, articulation_integrator="leapfrog", articulation_substeps=None,
+                        max_rotation_angle=None))]
     #[allow(clippy::too_many_arguments)]
     fn build(
         &self,
@@ -206,6 +207,7 @@ impl PyScene {
         articulations: bool,
         articulation_integrator: &str,
         articulation_substeps: Option<i64>,
+        max_rotation_angle: Option<f64>,
     ) -> PyResult<PyWorld> {
         let mut s = Settings::new(dt);
         s.integrator = Integrator::from_name(integrator).py_err()?;
@@ -221,6 +223,7 @@ impl PyScene {
             integrator: ArticulationIntegrator::from_name(articulation_integrator).py_err()?,
             substeps: articulation_substeps.map(|n| small(n, "articulation_substeps")).transpose()?,
         };
+        s.max_rotation_angle = max_rotation_angle;
         Ok(PyWorld::new(self.inner.build(&s).py_err()?))
     }
 }

@@ -27,7 +27,7 @@
 //! the bodies at their drifted poses, and what they do to bodies (attachments,
 //! contacts) is then seen by the relax pass.
 
-use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator};
+use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator, Rotation};
 
 /// Which dynamic bodies a kick applies to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,8 +62,16 @@ pub enum StageKind {
     Normal { relax: bool },
     /// `p += h v` for a group.
     Translate(Group),
-    /// Rotation of the bodies of one inertia class and group by the integrator's method.
-    Rotate(InertiaClass, Group),
+    /// Rotation of the bodies of one inertia class and group by the integrator's
+    /// method; `first`: the first drift of its step, where the exact rotation of
+    /// asymmetric bodies decides which turn too fast for one split per drift
+    /// (they sit out every drift of the step but for their `RotateFast`).
+    Rotate(InertiaClass, Group, bool),
+    /// The whole step's rotation of the asymmetric bodies the first drift found
+    /// too fast, in rotation substeps; planned in the middle drift of the
+    /// integrator's (palindromic) composition, so that the kicks before it add up
+    /// to half the step; runs only when there are such bodies.
+    RotateFast(Group),
     /// The monolithic RK4 step of a group; `forces`: with its kick.
     Rk4 { group: Group, forces: bool },
     /// Kinematic bodies moved by their velocities.
@@ -120,9 +128,10 @@ impl Stage {
             | StageKind::Gather { relax: true }
             | StageKind::Scatter { relax: true } => "contact_relax",
             StageKind::Translate(_) => "translate",
-            StageKind::Rotate(InertiaClass::Isotropic, _) => "rotate_isotropic",
-            StageKind::Rotate(InertiaClass::Symmetric, _) => "rotate_symmetric",
-            StageKind::Rotate(InertiaClass::Asymmetric, _) => "rotate_asymmetric",
+            StageKind::Rotate(InertiaClass::Isotropic, ..) => "rotate_isotropic",
+            StageKind::Rotate(InertiaClass::Symmetric, ..) => "rotate_symmetric",
+            StageKind::Rotate(InertiaClass::Asymmetric, ..) => "rotate_asymmetric",
+            StageKind::RotateFast(_) => "rotate_fast",
             StageKind::Rk4 { .. } => "rk4",
             StageKind::Kinematic => "kinematic",
             StageKind::Ccd => "ccd",
@@ -198,8 +207,10 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         return plan_free_and_touching(p, inp, lists);
     }
     let free = if inp.collisions { Group::Free } else { Group::All };
-    let drift = |sub: &mut Vec<Stage>, frac: f64| drift(sub, lists, Group::All, Stage::new, frac);
     let split = inp.integrator.splitting();
+    let exact = split.as_ref().is_some_and(|s| s.rotation == Rotation::Free);
+    let drift =
+        |sub: &mut Vec<Stage>, frac: f64, pos: [usize; 2]| drift(sub, lists, Group::All, Stage::new, frac, pos, exact);
     if dynamic {
         if let Some(g) = split.as_ref().and_then(|s| s.gyroscopic) {
             if !lists.anisotropic_index.is_empty() {
@@ -236,7 +247,7 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
                     if inp.forces && s.kicks[j] != 0.0 {
                         p.sub.push(Stage::new(StageKind::Forces(free), s.kicks[j]));
                     }
-                    drift(&mut p.sub, d);
+                    drift(&mut p.sub, d, [j, s.drifts.len()]);
                 }
                 joints(&mut p.sub, inp);
                 particles(&mut p.sub, inp);
@@ -274,6 +285,7 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
 /// predicted for it within the step, so nothing touches it before the next.
 fn plan_free_and_touching(mut p: Plan, inp: &PlanInputs, lists: &BodyLists) -> Plan {
     let split = inp.integrator.splitting();
+    let exact = split.as_ref().is_some_and(|s| s.rotation == Rotation::Free);
     match &split {
         None => p.pre.push(Stage::whole(StageKind::Rk4 { group: Group::Free, forces: inp.forces }, 1.0)),
         Some(s) => {
@@ -284,7 +296,7 @@ fn plan_free_and_touching(mut p: Plan, inp: &PlanInputs, lists: &BodyLists) -> P
                 if inp.forces && s.kicks[j] != 0.0 {
                     p.pre.push(Stage::whole(StageKind::Forces(Group::Free), s.kicks[j]));
                 }
-                drift(&mut p.pre, lists, Group::Free, Stage::whole, d);
+                drift(&mut p.pre, lists, Group::Free, Stage::whole, d, [j, s.drifts.len()], exact);
             }
             let last = s.kicks[s.drifts.len()];
             if inp.forces && last != 0.0 {
@@ -312,8 +324,8 @@ fn plan_free_and_touching(mut p: Plan, inp: &PlanInputs, lists: &BodyLists) -> P
     match &split {
         None => p.sub.push(Stage::new(StageKind::Rk4 { group: Group::Touching, forces: false }, 1.0)),
         Some(s) => {
-            for &d in &s.drifts {
-                drift(&mut p.sub, lists, Group::Touching, Stage::new, d);
+            for (j, &d) in s.drifts.iter().enumerate() {
+                drift(&mut p.sub, lists, Group::Touching, Stage::new, d, [j, s.drifts.len()], exact);
             }
         }
     }
@@ -324,14 +336,28 @@ fn plan_free_and_touching(mut p: Plan, inp: &PlanInputs, lists: &BodyLists) -> P
     finish(p, inp)
 }
 
-/// A drift of `frac` for a group: translation, then the rotation of each inertia
-/// class the world has.
-fn drift(stages: &mut Vec<Stage>, lists: &BodyLists, group: Group, make: fn(StageKind, f64) -> Stage, frac: f64) {
+/// Drift `pos = [j, s]` (the `j`-th of `s`) of `frac` for a group: translation,
+/// then the rotation of each inertia class the world has; with the exact free
+/// rotation, in the middle drift, the whole step's rotation of the asymmetric
+/// bodies too fast for one split per drift (a stage that does nothing, and is
+/// not listed by `World::stage_names`, while no body needs it).
+fn drift(
+    stages: &mut Vec<Stage>,
+    lists: &BodyLists,
+    group: Group,
+    make: fn(StageKind, f64) -> Stage,
+    frac: f64,
+    [j, s]: [usize; 2],
+    exact_rotation: bool,
+) {
     stages.push(make(StageKind::Translate(group), frac));
     for c in [InertiaClass::Isotropic, InertiaClass::Symmetric, InertiaClass::Asymmetric] {
         if lists.count(c) > 0 {
-            stages.push(make(StageKind::Rotate(c, group), frac));
+            stages.push(make(StageKind::Rotate(c, group, j == 0), frac));
         }
+    }
+    if exact_rotation && lists.count(InertiaClass::Asymmetric) > 0 && j == s / 2 {
+        stages.push(make(StageKind::RotateFast(group), 1.0));
     }
 }
 

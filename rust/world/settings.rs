@@ -22,6 +22,13 @@ pub struct Settings {
     /// Gauss–Seidel passes over the joints per substep, and symmetric passes over
     /// the particle constraints per substep. Default 1.
     pub iterations: u32,
+    /// Largest angle (rad) a body may turn by per rotation substep of the split
+    /// integrators (`strang`, `yoshida4`, `suzuki4`), taken at the largest `|ω|`
+    /// of its free orbit: an asymmetric body over it has its rotation subdivided,
+    /// alone (`integrate::free_rotation::Substeps`). Default (`None`): the
+    /// integrator's own, [`Integrator::max_split_angle`] (0.2, 0.5, 0.6 rad);
+    /// `f64::INFINITY` never subdivides (the bare method, for convergence studies).
+    pub max_rotation_angle: Option<f64>,
     pub solver: SolverSettings,
     pub sleep: SleepSettings,
     /// Articulations: on/off, integrator, substeps (see [`crate::articulation`]).
@@ -35,10 +42,16 @@ impl Settings {
             integrator: Integrator::Strang,
             substeps: None,
             iterations: 1,
+            max_rotation_angle: None,
             solver: SolverSettings::default(),
             sleep: SleepSettings::default(),
             articulation: Default::default(),
         }
+    }
+
+    /// The largest split angle per rotation substep (rad) this world uses.
+    pub fn rotation_angle(&self) -> f64 {
+        self.max_rotation_angle.unwrap_or(self.integrator.max_split_angle())
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -51,6 +64,13 @@ impl Settings {
         }
         if self.iterations == 0 {
             return Err(Error::input("iterations must be at least 1, got 0"));
+        }
+        if let Some(a) = self.max_rotation_angle {
+            if a.is_nan() || a <= 0.0 {
+                return Err(Error::input(format!(
+                    "max_rotation_angle must be positive (rad; inf turns rotation substeps off), got {a}"
+                )));
+            }
         }
         let s = &self.solver;
         non_negative("contact_hertz", s.contact_hertz)?;

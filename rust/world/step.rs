@@ -6,10 +6,12 @@ use super::pipeline::{Group, Stage, StageKind};
 use super::{validate, World};
 use crate::error::Result;
 use crate::integrate::kick::KickSources;
+use crate::integrate::free_rotation::Substeps;
 use crate::integrate::{
-    drift, euler, free_rotation, implicit_gyro, kick, rk4, symplectic_euler, BodyLists, Gyroscopic, InertiaClass,
-    Rotation,
+    drift, euler, free_rotation, implicit_gyro, kick, rk4, symplectic_euler, Aniso, BodyLists, Gyroscopic,
+    InertiaClass, Rotation,
 };
+
 use crate::body::Bodies;
 use crate::math::{quat, Vec3};
 
@@ -69,6 +71,10 @@ impl World {
 
     #[inline(always)]
     fn timed(&mut self, stage: Stage, h: f64, src: &KickSources) {
+        // Rotation substeps run (and show in the profile) only when a body needs them.
+        if matches!(stage.kind, StageKind::RotateFast(_)) && self.fast.is_empty() {
+            return;
+        }
         if self.profile.enabled {
             let t0 = Instant::now();
             self.run(stage, h, src);
@@ -80,7 +86,8 @@ impl World {
 
     fn run(&mut self, stage: Stage, h: f64, src: &KickSources) {
         let dt = self.settings.dt;
-        let hf = if stage.whole { dt } else { h } * stage.frac;
+        let step = if stage.whole { dt } else { h };
+        let hf = step * stage.frac;
         let group = |g: Group| match g {
             Group::All => &self.lists,
             Group::Free => &self.split[0],
@@ -89,7 +96,30 @@ impl World {
         match stage.kind {
             StageKind::Forces(g) => kick::kick(&mut self.bodies, &group(g).dynamic, hf, src),
             StageKind::Translate(g) => drift::translate(&mut self.bodies, &group(g).dynamic, hf),
-            StageKind::Rotate(class, g) => rotate(&mut self.bodies, group(g), class, self.rotation, hf),
+            StageKind::Rotate(InertiaClass::Asymmetric, g, first) if self.rotation == Rotation::Free => {
+                let l = group(g);
+                if first {
+                    // Which bodies turn too fast for one split per drift: decided once
+                    // per step, so that each sits out exactly the drifts of this step.
+                    let sub = Substeps::new(self.settings.rotation_angle(), step, &self.fast_weights);
+                    self.fast.clear();
+                    let (list, spread) = (&l.asymmetric, &l.asymmetric_inv_spread);
+                    free_rotation::rotate_asymmetric(&mut self.bodies, list, spread, hf, sub, &mut self.fast);
+                    if !self.fast.is_empty() && self.fast_weights.len() > 1 {
+                        slow_list(&l.asymmetric, &self.fast, &mut self.slow, &mut self.fast_mark);
+                    }
+                } else if self.fast.is_empty() {
+                    free_rotation::rotate_asymmetric_unchecked(&mut self.bodies, &l.asymmetric, hf);
+                } else {
+                    free_rotation::rotate_asymmetric_unchecked(&mut self.bodies, &self.slow, hf);
+                }
+            }
+            StageKind::Rotate(class, g, _) => rotate(&mut self.bodies, group(g), class, self.rotation, hf),
+            StageKind::RotateFast(_) => {
+                // The whole step (the stage's fraction is 1) in rotation substeps.
+                let sub = Substeps::new(self.settings.rotation_angle(), step, &self.fast_weights);
+                free_rotation::rotate_fast(&mut self.bodies, &self.fast, hf, sub);
+            }
             StageKind::Rk4 { group: g, forces } => {
                 let none = KickSources { gravity: Vec3::zeros(), force: false, torque: false };
                 rk4::step(&mut self.bodies, &group(g).dynamic, hf, if forces { src } else { &none });
@@ -141,6 +171,20 @@ impl World {
         }
     }
 
+    /// Whether a stage does something now: `RotateFast` only when a body of its
+    /// group turns too fast for one split (for `stage_names`).
+    pub(crate) fn stage_active(&self, stage: &Stage) -> bool {
+        let StageKind::RotateFast(g) = stage.kind else { return true };
+        let lists = match g {
+            Group::All => &self.lists,
+            Group::Free => &self.split[0],
+            Group::Touching => &self.split[1],
+        };
+        let step = if stage.whole { self.settings.dt } else { self.settings.dt / self.substeps as f64 };
+        let max_rate = Substeps::new(self.settings.rotation_angle(), step, &[]).max_rate;
+        lists.asymmetric.iter().any(|a| free_rotation::orbit_max_omega(&self.bodies, a) > max_rate)
+    }
+
     fn with_solver(&mut self, f: impl FnOnce(&mut crate::solve::ContactSolver, &mut Bodies)) {
         if let Some(c) = self.collision.as_mut() {
             f(&mut c.solver, &mut self.bodies);
@@ -189,13 +233,27 @@ impl World {
     }
 }
 
-/// Rotation of one class of bodies by the integrator's method.
+/// `list` without the bodies of `fast` (in order), into `slow`; `mark` is a
+/// scratch array indexed by body, left all false.
+fn slow_list(list: &[Aniso], fast: &[Aniso], slow: &mut Vec<Aniso>, mark: &mut Vec<bool>) {
+    let end = fast.iter().map(|a| a.index as usize + 1).max().unwrap_or(0);
+    if mark.len() < end {
+        mark.resize(end, false);
+    }
+    fast.iter().for_each(|a| mark[a.index as usize] = true);
+    slow.clear();
+    slow.extend(list.iter().filter(|a| !mark.get(a.index as usize).copied().unwrap_or(false)));
+    fast.iter().for_each(|a| mark[a.index as usize] = false);
+}
+
+/// Rotation of one class of bodies by the integrator's method (the exact
+/// rotation of asymmetric bodies, with its rotation substeps, is in `run`).
 pub(crate) fn rotate(b: &mut Bodies, l: &BodyLists, class: InertiaClass, method: Rotation, h: f64) {
     use InertiaClass::*;
     match (method, class) {
         (Rotation::Free, Isotropic) => free_rotation::rotate_isotropic(b, &l.isotropic, h),
         (Rotation::Free, Symmetric) => free_rotation::rotate_symmetric(b, &l.symmetric, h),
-        (Rotation::Free, Asymmetric) => free_rotation::rotate_asymmetric(b, &l.asymmetric, h),
+        (Rotation::Free, Asymmetric) => free_rotation::rotate_asymmetric_unchecked(b, &l.asymmetric, h),
         (Rotation::Euler, Isotropic) => euler::rotate_isotropic(b, &l.isotropic, h),
         (Rotation::Euler, c) => euler::rotate(b, l.indices(c), h),
         (Rotation::Exp, c) => symplectic_euler::rotate_exp(b, l.indices(c), h),

@@ -49,6 +49,16 @@ pub struct World {
     pub joint_names: Vec<String>,
     pub(crate) plan: Plan,
     pub(crate) plan_inputs: PlanInputs,
+    /// Asymmetric bodies the first drift of this step found too fast for one
+    /// split per drift (they take the whole step in `RotateFast`).
+    pub(crate) fast: Vec<crate::integrate::Aniso>,
+    /// The asymmetric bodies of the group but those in `fast`, for the other
+    /// drifts of a composition, and a scratch mark per body to build it.
+    pub(crate) slow: Vec<crate::integrate::Aniso>,
+    pub(crate) fast_mark: Vec<bool>,
+    /// Drift fractions of the integrator's composition, which each rotation
+    /// substep of a fast body repeats (`[1.0]` for strang).
+    pub(crate) fast_weights: Vec<f64>,
     pub(crate) steps: u64,
     /// Whether the derived arrays (rotation, angular momentum, world inertia) are
     /// kept fresh after each `step` call; set once a user reads one of them.
@@ -81,6 +91,7 @@ impl World {
         let lists = BodyLists::new(&bodies).without(&compiled.articulated_body);
         let kinematic = (0..bodies.len() as u32).filter(|&i| bodies.kind[i as usize] == BodyKind::Kinematic).collect();
         let rotation = settings.integrator.splitting().map_or(Rotation::Free, |s| s.rotation);
+        let fast_weights = settings.integrator.splitting().map_or(vec![1.0], |s| s.drifts);
         let plan_inputs = PlanInputs {
             integrator: settings.integrator,
             forces: false,
@@ -124,6 +135,10 @@ impl World {
             joint_names: scene.joint_options().iter().map(|o| o.name.clone().unwrap_or_default()).collect(),
             plan: Plan::default(),
             plan_inputs,
+            fast: Vec::new(),
+            slow: Vec::new(),
+            fast_mark: Vec::new(),
+            fast_weights,
             steps: 0,
             keep_derived: false,
             profile: Profile::default(),
@@ -190,10 +205,12 @@ impl World {
     }
 
     /// Names of the stages one step runs now, in order (pre, one substep, post),
-    /// with repeats in a row shown once.
+    /// with repeats in a row shown once. `rotate_fast` is listed when some body
+    /// turns too fast for one split of its rotation per step (it takes substeps).
     pub fn stage_names(&mut self) -> Vec<&'static str> {
         self.replan(false);
-        let mut names: Vec<&'static str> = self.plan.stages().map(|s| s.name()).collect();
+        let mut names: Vec<&'static str> =
+            self.plan.stages().filter(|s| self.stage_active(s)).map(|s| s.name()).collect();
         names.dedup();
         names
     }

@@ -26,7 +26,7 @@ from .base import Config, Method, Point, Problem
 from .contact import BouncingBall, Incline, SlipToRoll
 from .plots import write_plots
 from .progress import Progress
-from .rigid import AsymmetricTop, Disc, Dzhanibekov, FastRod, Projectile
+from .rigid import AsymmetricTop, Disc, Dzhanibekov, FastRod, FastSpinner, Projectile
 from .runner import Result, Run, count_points, run_problem
 from .table import cost_to_reach, report_markdown, slope
 from .xpbd import HangingChain, HeavyTop, Pendulum
@@ -34,8 +34,8 @@ from .xpbd import HangingChain, HeavyTop, Pendulum
 __all__ = ["PROBLEMS", "Config", "Method", "Point", "Problem", "Report", "Result", "Run", "accuracy", "cost_to_reach",
            "slope"]
 
-ALL: tuple[type[Problem], ...] = (AsymmetricTop, Dzhanibekov, Disc, FastRod, HeavyTop, Projectile, BouncingBall,
-                                  Incline, SlipToRoll, Pendulum, HangingChain)
+ALL: tuple[type[Problem], ...] = (AsymmetricTop, Dzhanibekov, Disc, FastRod, FastSpinner, HeavyTop, Projectile,
+                                  BouncingBall, Incline, SlipToRoll, Pendulum, HangingChain)
 PROBLEMS: dict[str, type[Problem]] = {cls.name: cls for cls in ALL}
 
 QUICK = Config(full=False, points=5, repeats=3, copies=16)

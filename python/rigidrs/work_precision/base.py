@@ -8,6 +8,7 @@ to measure one run's error against its exact reference. The runner
 """
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import ClassVar
@@ -21,13 +22,17 @@ from .. import Scene, World
 class Method:
     """One curve of a diagram: ``integrator`` with ``iterations`` solver passes and,
     for a sweep over dt, a fixed number of ``substeps`` (None: the engine's default).
-    ``order``: the nominal order of convergence in h drawn as a reference slope."""
+    ``order``: the nominal order of convergence in h drawn as a reference slope.
+    ``max_rotation_angle`` (rad): the limit of the automatic rotation substeps of fast
+    spinners; the sweeps measure each method itself (``math.inf``: none), a curve
+    that shows the engine's default sets None."""
 
     label: str
     integrator: str = "strang"
     iterations: int = 1
     substeps: int | None = None
     order: float | None = None
+    max_rotation_angle: float | None = math.inf
 
 
 @dataclass(frozen=True)
@@ -102,7 +107,8 @@ class Problem(ABC):
 
     def build(self, method: Method, point: Point, copies: int = 1) -> World:
         world = self.scene(copies).build(
-            dt=point.dt, integrator=method.integrator, substeps=point.substeps, iterations=method.iterations
+            dt=point.dt, integrator=method.integrator, substeps=point.substeps, iterations=method.iterations,
+            max_rotation_angle=method.max_rotation_angle,
         )
         world.profiling = False
         return world

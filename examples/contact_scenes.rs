@@ -14,6 +14,9 @@ fn material(friction: f64) -> rigidrs::collide::Material {
 fn settings() -> Settings {
     let mut s = Settings::new(1.0 / 60.0);
     s.sleep.enabled = false;
+    if let Ok(h) = std::env::var("HERTZ") {
+        s.solver.contact_hertz = h.parse().unwrap_or(30.0);
+    }
     s
 }
 

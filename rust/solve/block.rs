@@ -48,6 +48,8 @@ pub struct Block {
     pub k: u32,
     /// `J` and `Q` need recomputing (a body of the block moved).
     pub dirty: bool,
+    /// The sweep pass in which it was last solved.
+    pub solved_pass: u64,
     /// `K` and its factor are those of the current `J`.
     pub k_ready: bool,
     /// `Q = P⁻¹ M P⁻¹` with `P = Jᵀ W⁻¹ J`, when the rows hold all six of the
@@ -309,6 +311,13 @@ impl ContactSolver {
             self.support.scratch = sc;
             return;
         }
+        if self.support.blocks[g].solved_pass != self.support.pass {
+            self.support.blocks[g].solved_pass = self.support.pass;
+            self.support.solved.push(g as u32);
+            for i in 0..r1 - r0 {
+                self.support.start_lambda[r0 + i] = sc.lambda[i];
+            }
+        }
         self.block_increment(g, &mut sc);
         let (mut dv, mut dw) = (Vec3::zeros(), Vec3::zeros());
         for i in 0..r1 - r0 {
@@ -326,6 +335,7 @@ impl ContactSolver {
             row.set_lambda(&mut self.points, &mut self.patches, sc.lambda[i] + y);
             self.support.debt[r0 + i] += y;
         }
+        self.touch_body(b.body as usize);
         let ub = &mut self.bodies[b.body as usize];
         ub.v += dv;
         ub.w += dw;
@@ -505,9 +515,13 @@ impl ContactSolver {
             while i < r1 && self.support.rows[i].face == face {
                 self.support.targets[i] = match self.support.rows[i].kind {
                     RowKind::Normal(pi) => {
+                        // Down to twice the rest depth is resting: a face a hair
+                        // out of flat on its support would otherwise be pushed at
+                        // one corner and let down at the other for ever.
                         let s = gap.separation(&self.points[pi as usize]) + rest;
-                        push |= s < 0.0;
-                        Target::AtLeast(if s < 0.0 { (-rate * s).min(cap) } else { -s })
+                        let deep = s < -rest;
+                        push |= deep;
+                        Target::AtLeast(if deep { (-rate * s).min(cap) } else { -s.max(0.0) })
                     }
                     _ => Target::Free(0.0),
                 };
@@ -521,6 +535,7 @@ impl ContactSolver {
         sc.reset(r1 - r0);
         for i in 0..r1 - r0 {
             sc.r[i] = self.support.targets[r0 + i].value();
+            sc.lambda[i] = 0.0;
         }
         self.block_increment(g, &mut sc);
         let (mut dx, mut dtheta) = (Vec3::zeros(), Vec3::zeros());

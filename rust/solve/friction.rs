@@ -72,25 +72,13 @@ impl Patch {
     pub fn set_geometry(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
         let (a1, a2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
         let f = self;
-        // The patch is where the bodies touch: a point predicted ahead (the rim of
-        // a spinning top, inches above the floor) carries no friction and must not
-        // move the patch's centre or give it a lever. If none touches yet, the
-        // nearest ones.
-        let gap = Gap::new(bodies, c);
-        let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
-        let reach = nearest.max(0.0) + TOUCH;
-        let touching = |p: &&Point| gap.separation(p) <= reach;
-        let n = points.iter().filter(touching).count().max(1) as f64;
-        let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;
-        let r2 = points.iter().filter(touching).map(|p| p.r2).sum::<Vec3>() / n;
-        let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
-        let mut k = 0;
-        for p in points.iter().filter(touching).take(flat.len()) {
-            let d = p.r1 - r1;
-            flat[k] = [d.dot(&c.t1), d.dot(&c.t2)];
-            k += 1;
-        }
-        f.shape = PatchShape::new(&flat[..k]);
+        let (r1, r2) = if points.len() == 1 {
+            // One point (a ball's) is its own patch, with no lever.
+            f.shape = PatchShape::default();
+            (points[0].r1, points[0].r2)
+        } else {
+            f.patch_of_touching(c, points, bodies)
+        };
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);
@@ -114,6 +102,31 @@ impl Patch {
             let [p, q, r] = f.tangent_mass;
             [p, q, 0.0, r, 0.0, 0.0]
         };
+    }
+
+    /// The patch of the points that touch, and its centre's arms on each body.
+    ///
+    /// The patch is where the bodies touch: a point predicted ahead (the rim of
+    /// a spinning top, inches above the floor) carries no friction and must not
+    /// move the patch's centre or give it a lever. If none touches yet, the
+    /// nearest ones.
+    fn patch_of_touching(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Vec3, Vec3) {
+        let gap = Gap::new(bodies, c);
+        let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
+        let reach = nearest.max(0.0) + TOUCH;
+        let touching = |p: &&Point| gap.separation(p) <= reach;
+        let n = points.iter().filter(touching).count().max(1) as f64;
+        let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;
+        let r2 = points.iter().filter(touching).map(|p| p.r2).sum::<Vec3>() / n;
+        let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
+        let mut k = 0;
+        for p in points.iter().filter(touching).take(flat.len()) {
+            let d = p.r1 - r1;
+            flat[k] = [d.dot(&c.t1), d.dot(&c.t2)];
+            k += 1;
+        }
+        self.shape = if k > 1 { PatchShape::new(&flat[..k]) } else { PatchShape::default() };
+        (r1, r2)
     }
 
     /// The friction force and twist after one solve, within the limit of normal
@@ -143,7 +156,7 @@ impl Patch {
             return (cand, cand_twist);
         }
         self.sliding = true;
-        if v[0].hypot(v[1]) + lever * w.abs() > SLIP_EPS {
+        if (v[0] * v[0] + v[1] * v[1]).sqrt() + lever * w.abs() > SLIP_EPS {
             self.shape.sliding(v, w, c.friction * jn)
         } else {
             onto(cand, cand_twist, c.friction * jn, lever)

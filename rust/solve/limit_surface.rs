@@ -17,6 +17,13 @@
 //! Cutkosky, 1996); a sliding patch takes the exact force and torque of its slip,
 //! by quadrature over the patch when both its sliding and its spin count.
 
+/// `sqrt(x² + y²)` (libm's `hypot` guards against overflow at several times the
+/// cost; contact quantities are far from it).
+#[inline(always)]
+fn norm2(x: f64, y: f64) -> f64 {
+    (x * x + y * y).sqrt()
+}
+
 /// Most corners a patch's polygon keeps.
 pub const MAX_VERTICES: usize = 8;
 
@@ -46,7 +53,8 @@ impl PatchShape {
     /// patch centre, m): their convex hull, and its lever.
     pub fn new(p: &[[f64; 2]]) -> Self {
         let mut s = PatchShape::default();
-        let hull = convex_hull(p);
+        let (hull, n) = convex_hull(p);
+        let hull = &hull[..n];
         // More corners than kept (rare: parry's manifolds hold four, a hull face
         // a few more): every other one, evenly.
         let stride = hull.len().div_ceil(MAX_VERTICES).max(1);
@@ -91,7 +99,7 @@ impl PatchShape {
     }
 
     fn extent(&self) -> f64 {
-        self.corners().iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max)
+        self.corners().iter().map(|p| norm2(p[0], p[1])).fold(0.0, f64::max)
     }
 
     fn farthest_pair(&self) -> ([f64; 2], [f64; 2]) {
@@ -99,7 +107,7 @@ impl PatchShape {
         let mut best = (c[0], c[0], 0.0);
         for a in c {
             for b in c {
-                let d = (a[0] - b[0]).hypot(a[1] - b[1]);
+                let d = norm2(a[0] - b[0], a[1] - b[1]);
                 if d > best.2 {
                     best = (*a, *b, d);
                 }
@@ -112,7 +120,7 @@ impl PatchShape {
     /// centre and spinning at `w`, for the friction limit `mu_n = μ N` (an impulse
     /// or a force; the results are in the same unit, times m for the torque).
     pub fn sliding(&self, v: [f64; 2], w: f64, mu_n: f64) -> ([f64; 2], f64) {
-        let speed = v[0].hypot(v[1]);
+        let speed = norm2(v[0], v[1]);
         let spin = w.abs() * self.lever;
         if speed == 0.0 && spin == 0.0 {
             return ([0.0; 2], 0.0);
@@ -134,7 +142,7 @@ impl PatchShape {
     fn integrate(&self, v: [f64; 2], w: f64) -> ([f64; 2], f64) {
         let unit = |r: [f64; 2]| {
             let u = [v[0] - w * r[1], v[1] + w * r[0]];
-            let n = u[0].hypot(u[1]);
+            let n = norm2(u[0], u[1]);
             if n > 0.0 {
                 [u[0] / n, u[1] / n]
             } else {
@@ -173,12 +181,12 @@ impl PatchShape {
 /// of lever `lever`: the ellipsoid through pure sliding and pure spin.
 #[inline(always)]
 pub fn inside(f: [f64; 2], tau: f64, mu_n: f64, lever: f64, tiny: f64) -> bool {
-    let force = f[0].hypot(f[1]);
+    let force = norm2(f[0], f[1]);
     if lever <= 0.0 {
         return force <= mu_n + tiny;
     }
     let twist = tau / lever;
-    force.hypot(twist) <= mu_n + tiny
+    norm2(force, twist) <= mu_n + tiny
 }
 
 /// `(f, τ)` scaled onto the ellipsoid of `mu_n` (a sliding patch whose slip is
@@ -187,7 +195,7 @@ pub fn inside(f: [f64; 2], tau: f64, mu_n: f64, lever: f64, tiny: f64) -> bool {
 #[inline(always)]
 pub fn onto(f: [f64; 2], tau: f64, mu_n: f64, lever: f64) -> ([f64; 2], f64) {
     let twist = if lever > 0.0 { tau / lever } else { 0.0 };
-    let n = f[0].hypot(f[1]).hypot(twist);
+    let n = norm2(norm2(f[0], f[1]), twist);
     if n == 0.0 {
         return ([0.0; 2], 0.0);
     }
@@ -203,7 +211,7 @@ fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
     let cross = a[0] * b[1] - a[1] * b[0];
     let area = 0.5 * cross;
     let e = [b[0] - a[0], b[1] - a[1]];
-    let len = e[0].hypot(e[1]);
+    let len = norm2(e[0], e[1]);
     if len == 0.0 || cross == 0.0 {
         return (area, 0.0);
     }
@@ -230,15 +238,15 @@ fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
 /// Mean distance from the origin of the points of the segment ab.
 fn segment_mean_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     let e = [b[0] - a[0], b[1] - a[1]];
-    let len = e[0].hypot(e[1]);
+    let len = norm2(e[0], e[1]);
     if len == 0.0 {
-        return a[0].hypot(a[1]);
+        return norm2(a[0], a[1]);
     }
     // ∫ sqrt(x² + d²) dx from xa to xb, over the length.
     let dir = [e[0] / len, e[1] / len];
     let xa = a[0] * dir[0] + a[1] * dir[1];
     let d = (a[0] * dir[1] - a[1] * dir[0]).abs();
-    let prim = |x: f64| 0.5 * (x * x.hypot(d) + if d > 0.0 { d * d * (x / d).asinh() } else { 0.0 });
+    let prim = |x: f64| 0.5 * (x * norm2(x, d) + if d > 0.0 { d * d * (x / d).asinh() } else { 0.0 });
     (prim(xa + len) - prim(xa)) / len
 }
 
@@ -263,28 +271,45 @@ fn triangle_points(a: [f64; 2], b: [f64; 2], add: &mut impl FnMut([f64; 2], f64)
     area
 }
 
-/// Convex hull of a few points, counter-clockwise (monotone chain).
-fn convex_hull(p: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let mut pts: Vec<[f64; 2]> = p.to_vec();
-    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    pts.dedup_by(|a, b| (a[0] - b[0]).abs() <= 1e-12 && (a[1] - b[1]).abs() <= 1e-12);
-    if pts.len() <= 2 {
-        return pts;
-    }
+/// Convex hull of a few points (at most 2·[`MAX_VERTICES`] are looked at),
+/// counter-clockwise (monotone chain), in a fixed array: it runs each time a
+/// patch's geometry is refreshed.
+fn convex_hull(p: &[[f64; 2]]) -> ([[f64; 2]; 2 * MAX_VERTICES], usize) {
+    const N: usize = 2 * MAX_VERTICES;
+    let mut pts = [[0.0; 2]; N];
+    let n = p.len().min(N);
+    pts[..n].copy_from_slice(&p[..n]);
+    let pts = &mut pts[..n];
+    pts.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let mut hull = [[0.0; 2]; 2 * N];
+    let mut len = 0;
     let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
-        for &q in iter {
-            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
-                hull.pop();
-            }
-            hull.push(q);
+    let chain = |q: [f64; 2], start: usize, hull: &mut [[f64; 2]; 2 * N], len: &mut usize| {
+        while *len >= start + 2 && cross(hull[*len - 2], hull[*len - 1], q) <= 0.0 {
+            *len -= 1;
         }
-        hull.pop();
+        hull[*len] = q;
+        *len += 1;
+    };
+    if n <= 2 {
+        let mut out = [[0.0; 2]; N];
+        out[..n].copy_from_slice(pts);
+        let distinct = if n == 2 && norm2(pts[0][0] - pts[1][0], pts[0][1] - pts[1][1]) <= 1e-12 { 1 } else { n };
+        return (out, distinct);
     }
-    hull
+    for &q in pts.iter() {
+        chain(q, 0, &mut hull, &mut len);
+    }
+    len -= 1;
+    let lower = len;
+    for &q in pts.iter().rev() {
+        chain(q, lower, &mut hull, &mut len);
+    }
+    len -= 1;
+    let mut out = [[0.0; 2]; N];
+    let m = len.min(N);
+    out[..m].copy_from_slice(&hull[..m]);
+    (out, m)
 }
 
 #[cfg(test)]
@@ -300,9 +325,9 @@ mod tests {
         let a = 0.2;
         let exact = a * (2f64.sqrt() + 1f64.asinh()) / 3.0;
         assert!((square(a).lever - exact).abs() <= 1e-14, "{} vs {exact}", square(a).lever);
-        // A disc of radius R (a 64-gon): 2R/3.
-        let disc: Vec<[f64; 2]> = (0..64).map(|k| {
-            let t = k as f64 * std::f64::consts::TAU / 64.0;
+        // Sixteen points round the unit circle: every other one kept.
+        let disc: Vec<[f64; 2]> = (0..16).map(|k| {
+            let t = k as f64 * std::f64::consts::TAU / 16.0;
             [t.cos(), t.sin()]
         }).collect();
         let d = PatchShape::new(&disc);

@@ -41,8 +41,9 @@ use crate::math::Vec3;
 /// layer touch at 45°, those of a close-packed pile at 35°.
 const SUPPORT_ANGLE: f64 = 0.5;
 
-/// Residual taken as solved, as a fraction of `g h`.
-const RESIDUAL: f64 = 1e-8;
+/// Residual taken as solved, as a fraction of `g h` (4e-8 m/s at 240 Hz: a body
+/// left that far from the exact solve drifts 2 µm in a minute).
+const RESIDUAL: f64 = 1e-6;
 
 /// Mass ratio (upper over lower) above which a contact of fewer than three
 /// points is a support contact: a Gauss–Seidel pass moves a light body's worth of
@@ -61,19 +62,25 @@ pub struct Support {
     pub factor: Vec<f64>,
     /// Per row: what the pass asks of it.
     pub targets: Vec<Target>,
-    /// Largest row residual (m/s) of a block taken as solved already: the
-    /// round-off left by the warm start of a body at rest under its load, which
-    /// grows with the load (measured up to 1e-12 m/s in a 20-row pyramid), far
-    /// below what it would move a body by in a minute. [`RESIDUAL`] of the
-    /// velocity gravity gives in a substep.
+    /// Largest row residual (m/s) of a block taken as solved already: what the
+    /// warm start leaves of a body at rest under its load (measured up to 1e-9
+    /// m/s of sideways slip in a 20-row pyramid). [`RESIDUAL`] of the velocity
+    /// gravity gives in a substep.
     pub residual: f64,
     pub scratch: Scratch,
     /// Per row: impulse kept back for the lower body, and the impulse before
-    /// the sweeps of a pass.
+    /// the sweeps of a pass (of the blocks solved in it).
     pub debt: Vec<f64>,
     pub start_lambda: Vec<f64>,
-    /// Per solver body: velocities before the sweeps of a pass.
+    /// Per solver body: velocities before the sweeps of a pass (of those the
+    /// pass changed: `touched` is the pass's number), and the pass in which it
+    /// was last paid a reaction.
     pub start_velocity: Vec<(Vec3, Vec3)>,
+    pub touched: Vec<u64>,
+    pub paid: Vec<u64>,
+    /// Number of the current pass, and the blocks solved in it (first time).
+    pub pass: u64,
+    pub solved: Vec<u32>,
 }
 
 impl Support {
@@ -201,12 +208,12 @@ impl ContactSolver {
         let s = &mut self.support;
         s.debt.clear();
         s.debt.resize(s.rows.len(), 0.0);
-        s.start_velocity.clear();
-        s.start_velocity.extend(self.bodies.iter().map(|b| (b.v, b.w)));
-        s.start_lambda.clear();
-        for r in &s.rows {
-            s.start_lambda.push(r.lambda(&self.points, &self.patches));
-        }
+        s.pass += 1;
+        s.start_velocity.resize(self.bodies.len(), (Vec3::zeros(), Vec3::zeros()));
+        s.touched.resize(self.bodies.len(), 0);
+        s.paid.resize(self.bodies.len(), 0);
+        s.start_lambda.resize(s.rows.len(), 0.0);
+        s.solved.clear();
         let n = s.blocks.len();
         for k in 0..n {
             self.solve_block(k);
@@ -214,7 +221,8 @@ impl ContactSolver {
         // Top down a level at a time: every block of a level is solved on its
         // supports as the bottom-up sweep left them, then their debts are paid (a
         // box resting on two others would otherwise find one of them already
-        // pushed by a neighbour's load).
+        // pushed by a neighbour's load). A block whose upper body received no
+        // reaction since its bottom-up solve is as that solve left it.
         let mut end = n;
         while end > 0 {
             let level = self.support.blocks[end - 1].level;
@@ -223,16 +231,31 @@ impl ContactSolver {
                 start -= 1;
             }
             for k in (start..end).rev() {
-                self.solve_block(k);
+                let body = self.support.blocks[k].body as usize;
+                if self.support.paid.get(body).copied() == Some(self.support.pass) {
+                    self.solve_block(k);
+                }
             }
             for k in start..end {
                 self.pay(k);
             }
             end = start;
         }
-        let step = self.sweep_step();
-        if step < 1.0 {
-            self.shorten_sweep(step);
+        if !self.support.solved.is_empty() {
+            let step = self.sweep_step();
+            if step < 1.0 {
+                self.shorten_sweep(step);
+            }
+        }
+    }
+
+    /// Keeps the velocities of solver body `k` as they were before the sweeps,
+    /// the first time this pass changes them.
+    pub(crate) fn touch_body(&mut self, k: usize) {
+        let s = &mut self.support;
+        if s.touched[k] != s.pass {
+            s.touched[k] = s.pass;
+            s.start_velocity[k] = (self.bodies[k].v, self.bodies[k].w);
         }
     }
 
@@ -266,18 +289,22 @@ impl ContactSolver {
 
     /// Applies the impulses block `k` kept back to its lower bodies.
     fn pay(&mut self, k: usize) {
-        let b = &self.support.blocks[k];
+        let b = self.support.blocks[k];
         for ri in b.rows.0 as usize..b.rows.1 as usize {
             let d = std::mem::take(&mut self.support.debt[ri]);
             if d == 0.0 {
                 continue;
             }
-            let r = &self.support.rows[ri];
-            let lo = &mut self.bodies[r.lower as usize];
-            if lo.dynamic {
-                lo.v += r.jl[0] * (d * lo.inv_m);
-                lo.w += lo.inv_i * (r.jl[1] * d);
+            let r = self.support.rows[ri];
+            let l = r.lower as usize;
+            if !self.bodies[l].dynamic {
+                continue;
             }
+            self.touch_body(l);
+            self.support.paid[l] = self.support.pass;
+            let lo = &mut self.bodies[l];
+            lo.v += r.jl[0] * (d * lo.inv_m);
+            lo.w += lo.inv_i * (r.jl[1] * d);
         }
     }
 
@@ -290,15 +317,19 @@ impl ContactSolver {
     fn sweep_step(&self) -> f64 {
         let s = &self.support;
         let (mut along, mut square) = (0.0, 0.0);
+        let now = |k: usize| (self.bodies[k].v, self.bodies[k].w);
+        let before = |k: usize| if s.touched[k] == s.pass { s.start_velocity[k] } else { now(k) };
         for (ri, r) in s.rows.iter().enumerate() {
             let target = match s.targets[ri] {
                 Target::Skip => continue,
                 t => t.value(),
             };
-            let upper = s.blocks[r.block as usize].body as usize;
-            let v0 = r.velocity(&s.start_velocity[upper], &s.start_velocity[r.lower as usize]) - target;
-            let (bu, bl) = (&self.bodies[upper], &self.bodies[r.lower as usize]);
-            let v1 = r.velocity(&(bu.v, bu.w), &(bl.v, bl.w)) - target;
+            let (upper, lower) = (s.blocks[r.block as usize].body as usize, r.lower as usize);
+            if s.touched[upper] != s.pass && s.touched[lower] != s.pass {
+                continue;
+            }
+            let v0 = r.velocity(&before(upper), &before(lower)) - target;
+            let v1 = r.velocity(&now(upper), &now(lower)) - target;
             let holds = match r.kind {
                 RowKind::Normal(_) => r.lambda(&self.points, &self.patches) > 0.0 || v0 < 0.0 || v1 < 0.0,
                 _ => !self.patches[r.face as usize].sliding,
@@ -317,14 +348,21 @@ impl ContactSolver {
     /// Keeps `step` of the sweeps' change in impulses and velocities.
     fn shorten_sweep(&mut self, step: f64) {
         let s = &self.support;
-        for (b, &(v, w)) in self.bodies.iter_mut().zip(&s.start_velocity) {
-            b.v = v + (b.v - v) * step;
-            b.w = w + (b.w - w) * step;
+        for (k, b) in self.bodies.iter_mut().enumerate() {
+            if s.touched[k] == s.pass {
+                let (v, w) = s.start_velocity[k];
+                b.v = v + (b.v - v) * step;
+                b.w = w + (b.w - w) * step;
+            }
         }
-        for (ri, r) in s.rows.iter().enumerate() {
-            let l0 = s.start_lambda[ri];
-            let l = r.lambda(&self.points, &self.patches);
-            r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
+        for &g in &s.solved {
+            let blk = &s.blocks[g as usize];
+            for ri in blk.rows.0 as usize..blk.rows.1 as usize {
+                let r = &s.rows[ri];
+                let l0 = s.start_lambda[ri];
+                let l = r.lambda(&self.points, &self.patches);
+                r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
+            }
         }
     }
 }

@@ -14,6 +14,7 @@
 
 pub mod aba;
 pub mod build;
+pub mod contact;
 pub mod control;
 pub mod dynamics;
 pub mod euler;
@@ -114,13 +115,16 @@ pub struct Articulations {
     rk: Vec<rk4::Buffers>,
     /// The closed form of each single hinge or slide on the world.
     single: Vec<Option<single::Single>>,
+    /// Per articulation: it steps inside the contact substeps this step (see
+    /// [`contact`]), not in the `articulation` stage.
+    contact: Vec<bool>,
 }
 
 impl Articulations {
     pub fn new(list: Vec<Articulation>, settings: ArticulationSettings, gravity: Vec3) -> Self {
         let n = list.len();
         let single = list.iter().map(|a| single::Single::of(a).map(|s| s.with_gravity(&gravity, a.links[0].mass))).collect();
-        Self { list, settings, scratch: Scratch::default(), leap: vec![Default::default(); n], rk: vec![Default::default(); n], single }
+        Self { list, settings, scratch: Scratch::default(), leap: vec![Default::default(); n], rk: vec![Default::default(); n], single, contact: vec![false; n] }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -163,10 +167,13 @@ impl Articulations {
         }
     }
 
-    /// The `articulation` stage: one step `dt` of every articulation, then the
-    /// links' poses and velocities written to `bodies`.
+    /// The `articulation` stage: one step `dt` of every articulation not in
+    /// contact this step, then the links' poses and velocities written to `bodies`.
     pub fn step(&mut self, bodies: &mut Bodies, gravity: &Vec3, dt: f64) {
         for k in 0..self.list.len() {
+            if self.in_contact(k) {
+                continue;
+            }
             let art = &mut self.list[k];
             if art.links.iter().all(|l| bodies.sleeping[l.body as usize]) {
                 art.v.fill(0.0);

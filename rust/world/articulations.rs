@@ -1,14 +1,13 @@
 //! Articulations in the world: which joints become articulations (the joint
 //! graph's trees, see [`crate::articulation::build`]; a tree falls back to XPBD
-//! when a link could touch a collider outside it — its filter allows the pair
-//! and, for a system joined to the ground, the other collider is within its
-//! reach ([`super::reach`]) — since contacts do not act on articulations yet,
-//! or when a particle is attached to one of its links), the
-//! `articulation` stage, and the joints' read-back arrays that the Python views
-//! show: position, velocity, drive target and applied force per joint.
+//! when a particle is attached to one of its links, or when one of its links
+//! asks for continuous collision detection, which moves a body off its joints),
+//! the `articulation` stage, and the joints' read-back arrays that the Python
+//! views show: position, velocity, drive target and applied force per joint.
+//! Contacts act on articulated links through the contact solver (see
+//! [`super::link_contacts`]).
 
 use super::joints::SolverChoice;
-use super::reach::{self, Ball};
 use super::{Scene, Settings, World};
 use crate::articulation::build::{self, BodyInput, Component, JointInput};
 use crate::articulation::{spatial, Articulations, Control, DriveMode, JointModel};
@@ -26,6 +25,8 @@ pub(crate) struct Compiled {
     pub articulated_body: Vec<bool>,
     /// Every pair of links of one articulation (smaller index first): they never collide.
     pub link_pairs: Vec<(u32, u32)>,
+    /// Per body: the articulation it is a link of (`usize::MAX`: none).
+    pub owner: Vec<usize>,
 }
 
 fn model_of(kind: JointKind) -> JointModel {
@@ -82,10 +83,8 @@ fn inputs(scene: &Scene, settings: &Settings) -> (Vec<BodyInput>, Vec<JointInput
     (bodies, joints)
 }
 
-/// Why a component stays XPBD, if it does. `balls[c]`: where component `c` can
-/// reach (see [`super::reach`]); `owner[b]`: the component of body `b`.
-fn fallback(scene: &Scene, comps: &[Component], c: usize, attached: &[bool], balls: &[Option<Ball>], owner: &[usize]) -> Option<&'static str> {
-    let comp = &comps[c];
+/// Why a component stays XPBD, if it does.
+fn fallback(scene: &Scene, comp: &Component, attached: &[bool]) -> Option<&'static str> {
     if !comp.tree {
         return Some("its joints form a loop, or include a distance, compliant or solver=\"xpbd\" joint");
     }
@@ -93,20 +92,10 @@ fn fallback(scene: &Scene, comps: &[Component], c: usize, attached: &[bool], bal
         return Some("a particle is attached to one of its bodies");
     }
     let descs = scene.bodies();
-    let touches = comp.bodies.iter().any(|&b| {
-        let link = &descs[b as usize];
-        link.shape.is_some()
-            && descs.iter().enumerate().any(|(k, d)| {
-                let other = owner[k];
-                other != c
-                    && d.shape.is_some()
-                    && link.filter.allows(&d.filter)
-                    && balls[c].as_ref().is_none_or(|ball| {
-                        reach::may_touch(ball, d, balls.get(other).and_then(|x| x.as_ref()))
-                    })
-            })
-    });
-    touches.then_some("one of its links can touch a collider outside it (contacts on articulations come later)")
+    if comp.bodies.iter().any(|&b| descs[b as usize].ccd) {
+        return Some("one of its bodies asks for continuous collision detection (ccd=True), which moves a body off its joints");
+    }
+    None
 }
 
 /// Converts what a joint's controls say about body a relative to b into what
@@ -146,18 +135,12 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         articulated_joint: vec![false; joints.len()],
         articulated_body: vec![false; n],
         link_pairs: Vec::new(),
+        owner: vec![usize::MAX; n],
     };
     let mut list = Vec::new();
     let comps = build::components(&bodies, &joints);
-    let balls: Vec<Option<Ball>> = comps.iter().map(|c| reach::component_ball(scene, c)).collect();
-    let mut owner = vec![usize::MAX; n];
-    for (c, comp) in comps.iter().enumerate() {
-        for &b in &comp.bodies {
-            owner[b as usize] = c;
-        }
-    }
-    for (c, comp) in comps.iter().enumerate() {
-        if let Some(reason) = fallback(scene, &comps, c, &attached, &balls, &owner) {
+    for comp in &comps {
+        if let Some(reason) = fallback(scene, comp, &attached) {
             check_xpbd_ok(scene, comp, reason)?;
             continue;
         }
@@ -168,6 +151,7 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         }
         for l in &art.links {
             out.articulated_body[l.body as usize] = true;
+            out.owner[l.body as usize] = list.len();
             if let Some(j) = l.joint {
                 out.articulated_joint[j] = true;
             }

@@ -69,7 +69,14 @@ impl World {
         joint_pairs.extend(compiled.link_pairs.iter().copied());
         joint_pairs.sort_unstable();
         joint_pairs.dedup();
-        let collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
+        let mut collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
+        if let Some(c) = collision.as_mut() {
+            let links: Vec<(Vec<u32>, usize)> =
+                compiled.articulations.list.iter().map(|a| (a.links.iter().map(|l| l.body).collect(), a.nv)).collect();
+            c.solver.gen.set_links(bodies.len(), &links);
+        }
+        let articulated_contacts = collision.is_some()
+            && super::link_contacts::links_may_touch(descs, &compiled.articulated_body, &compiled.owner);
         let xpbd_joints = compiled.articulated_joint.iter().any(|&a| !a);
         let base = if collision.is_some() { 4 } else { 1 };
         let xpbd_base = if xpbd_joints { super::joints::xpbd_substeps(scene, &compiled.articulated_joint) } else { 1 };
@@ -89,6 +96,7 @@ impl World {
             iterations: settings.iterations,
             joints: xpbd_joints,
             articulations: !compiled.articulations.is_empty(),
+            articulated_contacts,
             particles: !scene.xpbd.is_empty(),
             clusters: !scene.xpbd.clusters.is_empty(),
         };

@@ -30,7 +30,7 @@
 use super::dynamics::{accelerations, record, Env, Kick};
 use super::model::{Articulation, Parent};
 use super::spatial::Vec6;
-use super::{joint, kinematics, limits, substeps, Articulations};
+use super::{joint, kinematics, limits, momentum, substeps, Articulations};
 use crate::body::Bodies;
 use crate::math::Vec3;
 
@@ -46,6 +46,7 @@ impl Articulations {
     /// their own integrator kept from its last step.
     pub fn set_contact(&mut self, contact: impl Fn(usize) -> bool) {
         self.contact.resize(self.list.len(), false);
+        self.momentum_error.resize(self.list.len(), Vec3::zeros());
         for a in 0..self.list.len() {
             let on = contact(a);
             self.contact[a] = on;
@@ -84,6 +85,8 @@ impl Articulations {
             b.vh.resize(v.len(), 0.0);
             let kick = Some(Kick { tau: h, h, weight: 1.0 });
             accelerations(art, &env, &q, &v, &v, kick, s, &mut b.qdd);
+            let floating = momentum::floating(art);
+            let p0 = if floating { momentum::linear_momentum(art, &v) } else { Vec3::zeros() };
             // The velocity-dependent forces at the midpoint velocity (fixed point).
             for _ in 0..if art.velocity_dependent { MIDPOINT_PASSES } else { 0 } {
                 for ((m, x), a) in b.vh.iter_mut().zip(&v).zip(&b.qdd) {
@@ -94,6 +97,11 @@ impl Articulations {
             record(s, &b.qdd, h, &mut art.applied);
             for (x, a) in v.iter_mut().zip(&b.qdd) {
                 *x += h * a;
+            }
+            if floating {
+                // What the kick did to the momentum beyond the external impulse.
+                let exact = momentum::external_impulse(art, bodies, gravity, h);
+                self.momentum_error[a] = momentum::linear_momentum(art, &v) - p0 - exact;
             }
             art.q = q;
             art.v = v;
@@ -117,6 +125,9 @@ impl Articulations {
                 limits::solve(art, &mut rows, &mut v, &mut applied);
                 art.applied = applied;
             }
+            let floating = momentum::floating(art);
+            // The contacts' and limits' impulses, at the kick's pose.
+            let solved = if floating { momentum::linear_momentum(art, &v) } else { Vec3::zeros() };
             for l in &art.links {
                 let (qa, va) = (l.q_at, l.v_at);
                 joint::drift(l.model, &mut q[qa..qa + l.model.nq()], &v[va..va + l.model.nv()], h);
@@ -124,6 +135,13 @@ impl Articulations {
             let env = Env { bodies, gravity: *gravity, external: external(art, bodies) };
             let kick = Some(Kick { tau: h, h, weight: 1.0 });
             accelerations(art, &env, &q, &v, &v, kick, &mut self.scratch, &mut self.leap[a].qdd);
+            if floating {
+                // The drift is free of forces: the momentum it ends with is the
+                // solve's, less what the kick added beyond the external impulse.
+                let drifted = momentum::linear_momentum(art, &v);
+                momentum::restore(art, &mut v, &(solved - self.momentum_error[a]), &drifted);
+                momentum::linear_momentum(art, &v);
+            }
             art.q = q;
             art.v = v;
             kinematics::write_bodies(art, bodies);

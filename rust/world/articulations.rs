@@ -23,10 +23,6 @@ pub(crate) struct Compiled {
     pub articulated_joint: Vec<bool>,
     /// Per body: whether it is a link of an articulation.
     pub articulated_body: Vec<bool>,
-    /// Every pair of links of one articulation (smaller index first): they never collide.
-    pub link_pairs: Vec<(u32, u32)>,
-    /// Per body: the articulation it is a link of (`usize::MAX`: none).
-    pub owner: Vec<usize>,
 }
 
 fn model_of(kind: JointKind) -> JointModel {
@@ -134,8 +130,6 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         articulations: Articulations::default(),
         articulated_joint: vec![false; joints.len()],
         articulated_body: vec![false; n],
-        link_pairs: Vec::new(),
-        owner: vec![usize::MAX; n],
     };
     let mut list = Vec::new();
     let comps = build::components(&bodies, &joints);
@@ -151,15 +145,9 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         }
         for l in &art.links {
             out.articulated_body[l.body as usize] = true;
-            out.owner[l.body as usize] = list.len();
             if let Some(j) = l.joint {
                 out.articulated_joint[j] = true;
             }
-        }
-        let mut links: Vec<u32> = art.links.iter().map(|l| l.body).collect();
-        links.sort_unstable();
-        for (i, &a) in links.iter().enumerate() {
-            out.link_pairs.extend(links[i + 1..].iter().map(|&b| (a, b)));
         }
         list.push(art);
     }
@@ -232,6 +220,8 @@ impl World {
             let vj = if v.is_none() && !qj.is_nan() { 0.0 } else { vj };
             changes.push((a, l.q_at, l.v_at, s * qj, s * vj));
         }
+        let moved: Vec<usize> = changes.iter().map(|c| c.0).collect();
+        self.wake_articulations(&moved);
         for (a, qa, va, qj, vj) in changes {
             let art = &mut self.articulations.list[a];
             if !qj.is_nan() {
@@ -254,16 +244,38 @@ impl World {
     }
 
     /// Copies the writable 1-dof drive targets into the articulations (their
-    /// sign turned where the articulation's child is the joint's body b).
+    /// sign turned where the articulation's child is the joint's body b); an
+    /// articulation asleep wakes when a target of it changed.
     pub(crate) fn sync_targets(&mut self) {
-        for art in &mut self.articulations.list {
+        let mut moved = Vec::new();
+        for (a, art) in self.articulations.list.iter_mut().enumerate() {
             for l in &mut art.links {
                 let (Some(j), Some(d)) = (l.joint, l.control.drive.as_mut()) else { continue };
                 if d.target.len() == 1 {
                     let t = self.joint_target[j];
-                    d.target[0] = if l.child_is_a { t } else { -t };
+                    let t = if l.child_is_a { t } else { -t };
+                    if d.target[0] != t {
+                        d.target[0] = t;
+                        moved.push(a);
+                    }
                 }
             }
+        }
+        moved.dedup();
+        self.wake_articulations(&moved);
+    }
+
+    /// Wakes the articulations `list` (indices) if they sleep.
+    pub(crate) fn wake_articulations(&mut self, list: &[usize]) {
+        let Some(c) = self.collision.as_mut() else { return };
+        let mut woke = false;
+        for &a in list {
+            if let Some(l) = self.articulations.list.get(a).and_then(|art| art.links.first()) {
+                woke |= c.islands.wake(&mut self.bodies, l.body as usize);
+            }
+        }
+        if woke {
+            self.relist();
         }
     }
 

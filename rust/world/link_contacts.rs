@@ -79,14 +79,12 @@ impl World {
     }
 }
 
-/// Whether some articulated link (`articulated[b]`, of articulation `owner[b]`)
-/// has a collider that a collider outside its articulation allows by filter.
-pub(crate) fn links_may_touch(descs: &[BodyDesc], articulated: &[bool], owner: &[usize]) -> bool {
+/// Whether some articulated link (`articulated[b]`) has a collider that
+/// another body's collider allows by filter.
+pub(crate) fn links_may_touch(descs: &[BodyDesc], articulated: &[bool]) -> bool {
     descs.iter().enumerate().any(|(i, link)| {
         articulated[i]
             && link.shape.is_some()
-            && descs.iter().enumerate().any(|(k, d)| {
-                d.shape.is_some() && !(articulated[k] && owner[k] == owner[i]) && link.filter.allows(&d.filter)
-            })
+            && descs.iter().enumerate().any(|(k, d)| k != i && d.shape.is_some() && link.filter.allows(&d.filter))
     })
 }

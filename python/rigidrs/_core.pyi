@@ -349,7 +349,10 @@ class Scene:
         every joint XPBD), ``articulation_integrator`` from ``ARTICULATION_INTEGRATORS``
         (default "leapfrog"), ``articulation_substeps`` per step (default None: chosen
         before every substep so that h·ω ≤ 0.25, ω the fastest joint rate or link tension
-        mode of the state)."""
+        mode of the state). An articulation with a link in contact steps inside the contact
+        substeps instead (semi-implicit, like the bodies in contact): that step the world
+        takes ``max(substeps, articulation_substeps or the count h·ω ≤ 0.25 asks)`` of them,
+        at most 256."""
     @property
     def particle_count(self) -> int:
         """Number of particles added so far."""
@@ -641,7 +644,8 @@ class World:
         outside its limits, infinite) and leaves the world unchanged."""
     def articulations(self) -> list[dict[str, Any]]:
         """Per articulation: ``bodies`` (root first), ``joints`` (−1: a floating root's free
-        joint), ``dofs`` and the ``substeps`` its last step took."""
+        joint), ``dofs`` and the ``substeps`` its last step took (the contact substeps when
+        one of its links was in contact)."""
     @property
     def time(self) -> float:
         """Simulated time (s)."""
@@ -654,7 +658,8 @@ class World:
     def integrator(self) -> str: ...
     @property
     def stages(self) -> list[str]:
-        """Names of the stages one (sub)step runs now, in order."""
+        """Names of the stages one (sub)step runs now, in order (``"articulation_contact"``:
+        the kick and the drift of the articulations in contact, around the contact solve)."""
     def profile(self, reset: bool = True) -> dict[str, Any]:
         """Seconds per stage since the last reset, and ``"steps"``: the steps covered."""
     @property

@@ -1,5 +1,5 @@
 """Joint read-back and control as views, names, `set_joint_positions`, and the
-choice between articulations and XPBD (the switch, loops, contact fallback).
+choice between articulations and XPBD (the switch, loops, contacts kept articulated).
 """
 from __future__ import annotations
 
@@ -145,11 +145,10 @@ def test_solver_switch_per_joint_and_loops() -> None:
         pendulum_pair("articulation", True)
 
 
-def test_links_that_can_touch_a_collider_fall_back_to_xpbd() -> None:
-    # Contacts do not act on articulations yet: a chain whose links can reach the
-    # ground stays XPBD (visible in the stages); masked off it, or hung where it
-    # cannot reach it (its reach: twice each link's farthest anchor plus its
-    # shape, 0.6 m here), it articulates.
+def test_links_that_can_touch_a_collider_stay_articulated() -> None:
+    # Contacts act on articulations: a chain whose links can reach the ground
+    # articulates and steps inside the contact substeps when it touches it
+    # (`articulation_contact`); masked off it, it has no contact stage at all.
     def chain(mask: int, height: float) -> rr.World:
         scene = rr.Scene(gravity=(0, 0, -G))
         scene.add_body(rr.Plane(), fixed=True)
@@ -160,13 +159,12 @@ def test_links_that_can_touch_a_collider_fall_back_to_xpbd() -> None:
         return scene.build(dt=1 / 60)
 
     touching = chain(0xFFFFFFFF, 0.3)
-    assert "joints" in touching.stages and "articulation" not in touching.stages
+    assert "joints" not in touching.stages and "articulation_contact" in touching.stages
     assert chain(0, 0.3).stages == ["articulation"]
-    high = chain(0xFFFFFFFF, 1.0).stages  # the filters allow, the reach does not
-    assert "articulation" in high and "joints" not in high
     touching.step(30)
     assert np.isfinite(touching.bodies.position).all()
     assert touching.bodies.position[1:, 2].min() > 0.0  # held up by the ground
+    assert len(touching.articulations()) == 1
 
 
 def test_fixed_joint_reads_its_static_load() -> None:

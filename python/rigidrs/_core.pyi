@@ -355,7 +355,10 @@ class Scene:
         every joint XPBD), ``articulation_integrator`` from ``ARTICULATION_INTEGRATORS``
         (default "leapfrog"), ``articulation_substeps`` per step (default None: chosen
         before every substep so that h·ω ≤ 0.25, ω the fastest joint rate or link tension
-        mode of the state). Fast spinners: ``max_rotation_angle`` (rad, default None: the
+        mode of the state). An articulation with a link in contact steps inside the contact
+        substeps instead (semi-implicit, like the bodies in contact): that step the world
+        takes ``max(substeps, articulation_substeps or the count h·ω ≤ 0.25 asks)`` of them,
+        at most 256. Fast spinners: ``max_rotation_angle`` (rad, default None: the
         integrator's own, 0.2 for strang, 0.5 for yoshida4, 0.6 for suzuki4) is the largest
         angle a body may turn by per rotation substep of the split integrators, taken at the
         largest ``|ω|`` of its free orbit; an asymmetric body that would turn more per step
@@ -656,7 +659,8 @@ class World:
         outside its limits, infinite) and leaves the world unchanged."""
     def articulations(self) -> list[dict[str, Any]]:
         """Per articulation: ``bodies`` (root first), ``joints`` (−1: a floating root's free
-        joint), ``dofs`` and the ``substeps`` its last step took."""
+        joint), ``dofs`` and the ``substeps`` its last step took (the contact substeps when
+        one of its links was in contact)."""
     @property
     def time(self) -> float:
         """Simulated time (s)."""
@@ -671,7 +675,8 @@ class World:
     def stages(self) -> list[str]:
         """Names of the stages one (sub)step runs now, in order. ``rotate_fast`` is listed
         while some body turns too fast for one split of its rotation per step (see
-        ``max_rotation_angle`` of ``Scene.build``)."""
+        ``max_rotation_angle`` of ``Scene.build``); ``articulation_contact``: the kick and
+        the drift of the articulations in contact, around the contact solve."""
     def profile(self, reset: bool = True) -> dict[str, Any]:
         """Seconds per stage since the last reset, and ``"steps"``: the steps covered."""
     @property

@@ -66,6 +66,11 @@ pub fn accelerations(art: &mut Articulation, tau: &[f64], extra: &[f64], gravity
             }
         }
         pa += ia * w.c;
+        // In exact arithmetic `ia` stays symmetric; in floating point the sum of
+        // the outer products does not, and the asymmetry grows tenfold per link
+        // down a chain of spherical joints (|M M⁻¹ − I| reached 0.9 at 20 links,
+        // 1e-9 with this).
+        let ia = (ia + ia.transpose()) * 0.5;
         let pw = &mut art.work[p];
         pw.ia += ia;
         pw.pa += pa;
@@ -134,5 +139,90 @@ pub fn response(art: &mut Articulation, j: &[f64], dv: &mut [f64]) {
             acc += w.s[i] * x;
         }
         w.acc = acc;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::Shape;
+    use crate::world::{BodySpec, Scene, Settings};
+    use crate::xpbd::joints::{JointKind, JointSpec};
+    use nalgebra::DMatrix;
+
+    /// A chain of `n` thin bars (1 cm thick, 5 cm long) on spherical joints,
+    /// hung from the world at `x0`, a few steps into a swing.
+    fn chain(n: usize, x0: f64) -> crate::world::World {
+        let mut scene = Scene::new([0.0, 0.0, -9.81]).unwrap();
+        let mut prev = None;
+        for k in 0..n {
+            let spec = BodySpec {
+                shape: Some(Shape::cuboid([0.025, 0.005, 0.005]).unwrap()),
+                mass: Some(0.05),
+                position: [x0 + 0.05 * k as f64 + 0.025, 0.0, 0.1],
+                filter: crate::collide::Filter { group: 1, mask: 0 },
+                ..Default::default()
+            };
+            let b = scene.add_body(spec).unwrap();
+            let mut j = JointSpec::new(JointKind::Spherical, b, prev);
+            j.anchor = Some([x0 + 0.05 * k as f64, 0.0, 0.1]);
+            scene.add_joint(j).unwrap();
+            prev = Some(b);
+        }
+        let mut w = scene.build(&Settings::new(1.0 / 60.0)).unwrap();
+        w.step(3).unwrap();
+        w
+    }
+
+    /// `M` from the kinetic energy `½ Σ_k Vₖᵀ Iₖ Vₖ`, `Vₖ = Σ_path S v`, with the
+    /// subspaces and inertias of the last pass 1.
+    fn mass_matrix(art: &Articulation) -> DMatrix<f64> {
+        let n = art.nv;
+        let mut m = DMatrix::zeros(n, n);
+        for k in 0..art.links.len() {
+            let mut cols = Vec::new();
+            let mut link = Some(k);
+            while let Some(i) = link {
+                let l = &art.links[i];
+                cols.extend((0..l.model.nv()).map(|d| (l.v_at + d, art.work[i].s[d])));
+                link = match l.parent {
+                    Parent::Link(p) => Some(p),
+                    _ => None,
+                };
+            }
+            for (a, sa) in &cols {
+                for (b, sb) in &cols {
+                    m[(*a, *b)] += sa.dot(&(art.work[k].inertia * sb));
+                }
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn the_response_inverts_the_mass_matrix_of_a_long_spherical_chain() {
+        // The articulated inertias must stay symmetric: without it the error
+        // grew tenfold per link (|M M⁻¹ − I| = 0.9 at 20 links, 2e-3 at 12 links
+        // 10 m from the origin), while cond(M) is ~1e7 (round-off times cond(M):
+        // ~1e-9; measured 4e-11 and 1.1e-9).
+        for (n, x0) in [(20, 0.0), (12, 10.0)] {
+            let mut w = chain(n, x0);
+            let g = w.gravity;
+            let arts = &mut w.articulations;
+            arts.set_contact(|_| true);
+            arts.contact_kick(&w.bodies, &g, 1.0 / 240.0);
+            let art = &mut arts.list[0];
+            let nv = art.nv;
+            let mut inv = DMatrix::zeros(nv, nv);
+            let mut col = vec![0.0; nv];
+            for i in 0..nv {
+                let mut e = vec![0.0; nv];
+                e[i] = 1.0;
+                response(art, &e, &mut col);
+                inv.column_mut(i).copy_from_slice(&col);
+            }
+            let err = (mass_matrix(art) * inv - DMatrix::<f64>::identity(nv, nv)).abs().max();
+            assert!(err < 1e-8, "{n} links at x = {x0}: |M M⁻¹ − I| = {err:e}");
+        }
     }
 }

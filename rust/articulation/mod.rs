@@ -14,6 +14,7 @@
 
 pub mod aba;
 pub mod build;
+pub mod contact;
 pub mod control;
 pub mod dynamics;
 pub mod euler;
@@ -22,6 +23,7 @@ pub mod kinematics;
 pub mod leapfrog;
 pub mod limits;
 pub mod model;
+pub mod momentum;
 pub mod rk4;
 pub mod single;
 pub mod spatial;
@@ -114,13 +116,19 @@ pub struct Articulations {
     rk: Vec<rk4::Buffers>,
     /// The closed form of each single hinge or slide on the world.
     single: Vec<Option<single::Single>>,
+    /// Per articulation: it steps inside the contact substeps this step (see
+    /// [`contact`]), not in the `articulation` stage.
+    contact: Vec<bool>,
+    /// Per articulation in contact: what this substep's kick did to its linear
+    /// momentum beyond the external impulse (see [`momentum`]).
+    momentum_error: Vec<Vec3>,
 }
 
 impl Articulations {
     pub fn new(list: Vec<Articulation>, settings: ArticulationSettings, gravity: Vec3) -> Self {
         let n = list.len();
         let single = list.iter().map(|a| single::Single::of(a).map(|s| s.with_gravity(&gravity, a.links[0].mass))).collect();
-        Self { list, settings, scratch: Scratch::default(), leap: vec![Default::default(); n], rk: vec![Default::default(); n], single }
+        Self { list, settings, scratch: Scratch::default(), leap: vec![Default::default(); n], rk: vec![Default::default(); n], single, contact: vec![false; n], momentum_error: vec![Vec3::zeros(); n] }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -163,10 +171,13 @@ impl Articulations {
         }
     }
 
-    /// The `articulation` stage: one step `dt` of every articulation, then the
-    /// links' poses and velocities written to `bodies`.
+    /// The `articulation` stage: one step `dt` of every articulation not in
+    /// contact this step, then the links' poses and velocities written to `bodies`.
     pub fn step(&mut self, bodies: &mut Bodies, gravity: &Vec3, dt: f64) {
         for k in 0..self.list.len() {
+            if self.in_contact(k) {
+                continue;
+            }
             let art = &mut self.list[k];
             if art.links.iter().all(|l| bodies.sleeping[l.body as usize]) {
                 art.v.fill(0.0);
@@ -193,6 +204,8 @@ impl Articulations {
             // Automatic substeps: the rate is estimated again before every substep
             // (from the state and the reactions of the last solve), so a chain
             // that starts to whip within a step gets shorter substeps at once.
+            let floating = momentum::floating(art);
+            let mut p = if floating { momentum::measure(art, bodies) } else { Vec3::zeros() };
             let (mut left, mut n) = (dt, 0u32);
             while left > 0.0 {
                 let remaining = match self.settings.substeps {
@@ -209,6 +222,10 @@ impl Articulations {
                         euler::substep(art, &env, h, &mut self.scratch, &mut self.leap[k], &mut applied)
                     }
                     ArticulationIntegrator::Rk4 => rk4::substep(art, &env, h, &mut self.scratch, &mut self.rk[k], &mut applied),
+                }
+                if floating {
+                    p += momentum::external_impulse(art, bodies, gravity, h);
+                    momentum::settle(art, bodies, &p);
                 }
                 left = if remaining <= 1 { 0.0 } else { left - h };
                 n += 1;

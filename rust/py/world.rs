@@ -70,7 +70,8 @@ impl PyWorld {
     }
 
     /// Per articulation: its bodies (links, root first), its joints (the free
-    /// root of a floating base is -1) and the substeps its last step took.
+    /// root of a floating base is -1) and the substeps its last step took (the
+    /// contact substeps when one of its links was in contact).
     fn articulations<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let mut out = Vec::new();
         for a in &self.inner.articulations.list {

@@ -128,6 +128,9 @@ pub struct Constraint {
     pub lower: u8,
     /// The support group of its upper body (when `lower != 0`).
     pub group: u32,
+    /// It touches an articulated link: solved through the articulation (see
+    /// `super::generalized`), never a support contact.
+    pub generalized: bool,
 }
 
 /// The contact solver's state for one step.
@@ -154,6 +157,8 @@ pub struct ContactSolver {
     pub(crate) substeps_done: u32,
     /// Whether the solver bodies have been gathered since `prepare`.
     pub(crate) gathered: bool,
+    /// The contacts on articulated links.
+    pub gen: super::generalized::Generalized,
 }
 
 /// Any unit vector orthogonal to `n`.
@@ -222,6 +227,16 @@ impl ContactSolver {
         let g = gravity.norm();
         let up = if g > 0.0 { -gravity / g } else { Vec3::zeros() };
         self.plan_support(&up, g);
+        self.plan_links();
+    }
+
+    /// Changes the substep of this step to `h` (before its first substep): the
+    /// soft contacts' constants and what depends on `1/h`.
+    pub fn set_substep(&mut self, h: f64) {
+        let hertz = self.settings.contact_hertz.min(0.25 / h);
+        self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
+        self.support.residual *= h * self.inv_h;
+        self.inv_h = 1.0 / h;
     }
 
     /// What the constraints of a collider pair share, at the bodies' current poses.
@@ -297,6 +312,7 @@ impl ContactSolver {
             fresh: !warm || manifold.points.iter().all(|tp| tp.data.normal_impulse == 0.0),
             lower: 0,
             group: 0,
+            generalized: (ctx.s1 != 0 && self.is_link(ctx.b1)) || (ctx.s2 != 0 && self.is_link(ctx.b2)),
         };
         let mut patch = Patch::new(&constraint, &self.points[start as usize..], &self.bodies);
         if warm {

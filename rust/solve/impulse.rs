@@ -72,7 +72,7 @@ impl Rule {
     /// out at the soft contact's rate (at most `max_push_velocity`) in the first
     /// pass and the push-out taken back by the relax pass.
     #[inline(always)]
-    fn both_ways(&self, s: f64, vn: f64, p: &Point) -> f64 {
+    pub(crate) fn both_ways(&self, s: f64, vn: f64, p: &Point) -> f64 {
         let bias = if s > 0.0 {
             s * self.inv_h
         } else if !self.relax {

@@ -5,6 +5,7 @@
 pub mod block;
 pub mod contact;
 pub mod friction;
+pub mod generalized;
 pub mod impacts;
 pub mod impulse;
 pub mod islands;

@@ -141,6 +141,9 @@ impl ContactSolver {
     /// none).
     fn lower_side(&self, ci: usize, up: &Vec3, level: &[u32]) -> u8 {
         let c = &self.constraints[ci];
+        if c.generalized {
+            return 0;
+        }
         let rising = c.normal.dot(up);
         let (l1, l2) = (level[c.s1 as usize], level[c.s2 as usize]);
         let lower = if rising >= SUPPORT_ANGLE && l1 < l2 {

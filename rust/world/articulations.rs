@@ -1,14 +1,13 @@
 //! Articulations in the world: which joints become articulations (the joint
 //! graph's trees, see [`crate::articulation::build`]; a tree falls back to XPBD
-//! when a link could touch a collider outside it — its filter allows the pair
-//! and, for a system joined to the ground, the other collider is within its
-//! reach ([`super::reach`]) — since contacts do not act on articulations yet,
-//! or when a particle is attached to one of its links), the
-//! `articulation` stage, and the joints' read-back arrays that the Python views
-//! show: position, velocity, drive target and applied force per joint.
+//! when a particle is attached to one of its links, or when one of its links
+//! asks for continuous collision detection, which moves a body off its joints),
+//! the `articulation` stage, and the joints' read-back arrays that the Python
+//! views show: position, velocity, drive target and applied force per joint.
+//! Contacts act on articulated links through the contact solver (see
+//! [`super::link_contacts`]).
 
 use super::joints::SolverChoice;
-use super::reach::{self, Ball};
 use super::{Scene, Settings, World};
 use crate::articulation::build::{self, BodyInput, Component, JointInput};
 use crate::articulation::{spatial, Articulations, Control, DriveMode, JointModel};
@@ -24,8 +23,6 @@ pub(crate) struct Compiled {
     pub articulated_joint: Vec<bool>,
     /// Per body: whether it is a link of an articulation.
     pub articulated_body: Vec<bool>,
-    /// Every pair of links of one articulation (smaller index first): they never collide.
-    pub link_pairs: Vec<(u32, u32)>,
 }
 
 fn model_of(kind: JointKind) -> JointModel {
@@ -82,10 +79,8 @@ fn inputs(scene: &Scene, settings: &Settings) -> (Vec<BodyInput>, Vec<JointInput
     (bodies, joints)
 }
 
-/// Why a component stays XPBD, if it does. `balls[c]`: where component `c` can
-/// reach (see [`super::reach`]); `owner[b]`: the component of body `b`.
-fn fallback(scene: &Scene, comps: &[Component], c: usize, attached: &[bool], balls: &[Option<Ball>], owner: &[usize]) -> Option<&'static str> {
-    let comp = &comps[c];
+/// Why a component stays XPBD, if it does.
+fn fallback(scene: &Scene, comp: &Component, attached: &[bool]) -> Option<&'static str> {
     if !comp.tree {
         return Some("its joints form a loop, or include a distance, compliant or solver=\"xpbd\" joint");
     }
@@ -93,20 +88,10 @@ fn fallback(scene: &Scene, comps: &[Component], c: usize, attached: &[bool], bal
         return Some("a particle is attached to one of its bodies");
     }
     let descs = scene.bodies();
-    let touches = comp.bodies.iter().any(|&b| {
-        let link = &descs[b as usize];
-        link.shape.is_some()
-            && descs.iter().enumerate().any(|(k, d)| {
-                let other = owner[k];
-                other != c
-                    && d.shape.is_some()
-                    && link.filter.allows(&d.filter)
-                    && balls[c].as_ref().is_none_or(|ball| {
-                        reach::may_touch(ball, d, balls.get(other).and_then(|x| x.as_ref()))
-                    })
-            })
-    });
-    touches.then_some("one of its links can touch a collider outside it (contacts on articulations come later)")
+    if comp.bodies.iter().any(|&b| descs[b as usize].ccd) {
+        return Some("one of its bodies asks for continuous collision detection (ccd=True), which moves a body off its joints");
+    }
+    None
 }
 
 /// Converts what a joint's controls say about body a relative to b into what
@@ -145,19 +130,11 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
         articulations: Articulations::default(),
         articulated_joint: vec![false; joints.len()],
         articulated_body: vec![false; n],
-        link_pairs: Vec::new(),
     };
     let mut list = Vec::new();
     let comps = build::components(&bodies, &joints);
-    let balls: Vec<Option<Ball>> = comps.iter().map(|c| reach::component_ball(scene, c)).collect();
-    let mut owner = vec![usize::MAX; n];
-    for (c, comp) in comps.iter().enumerate() {
-        for &b in &comp.bodies {
-            owner[b as usize] = c;
-        }
-    }
-    for (c, comp) in comps.iter().enumerate() {
-        if let Some(reason) = fallback(scene, &comps, c, &attached, &balls, &owner) {
+    for comp in &comps {
+        if let Some(reason) = fallback(scene, comp, &attached) {
             check_xpbd_ok(scene, comp, reason)?;
             continue;
         }
@@ -171,11 +148,6 @@ pub(crate) fn compile(scene: &Scene, settings: &Settings) -> Result<Compiled> {
             if let Some(j) = l.joint {
                 out.articulated_joint[j] = true;
             }
-        }
-        let mut links: Vec<u32> = art.links.iter().map(|l| l.body).collect();
-        links.sort_unstable();
-        for (i, &a) in links.iter().enumerate() {
-            out.link_pairs.extend(links[i + 1..].iter().map(|&b| (a, b)));
         }
         list.push(art);
     }
@@ -248,6 +220,8 @@ impl World {
             let vj = if v.is_none() && !qj.is_nan() { 0.0 } else { vj };
             changes.push((a, l.q_at, l.v_at, s * qj, s * vj));
         }
+        let moved: Vec<usize> = changes.iter().map(|c| c.0).collect();
+        self.wake_articulations(&moved);
         for (a, qa, va, qj, vj) in changes {
             let art = &mut self.articulations.list[a];
             if !qj.is_nan() {
@@ -270,16 +244,38 @@ impl World {
     }
 
     /// Copies the writable 1-dof drive targets into the articulations (their
-    /// sign turned where the articulation's child is the joint's body b).
+    /// sign turned where the articulation's child is the joint's body b); an
+    /// articulation asleep wakes when a target of it changed.
     pub(crate) fn sync_targets(&mut self) {
-        for art in &mut self.articulations.list {
+        let mut moved = Vec::new();
+        for (a, art) in self.articulations.list.iter_mut().enumerate() {
             for l in &mut art.links {
                 let (Some(j), Some(d)) = (l.joint, l.control.drive.as_mut()) else { continue };
                 if d.target.len() == 1 {
                     let t = self.joint_target[j];
-                    d.target[0] = if l.child_is_a { t } else { -t };
+                    let t = if l.child_is_a { t } else { -t };
+                    if d.target[0] != t {
+                        d.target[0] = t;
+                        moved.push(a);
+                    }
                 }
             }
+        }
+        moved.dedup();
+        self.wake_articulations(&moved);
+    }
+
+    /// Wakes the articulations `list` (indices) if they sleep.
+    pub(crate) fn wake_articulations(&mut self, list: &[usize]) {
+        let Some(c) = self.collision.as_mut() else { return };
+        let mut woke = false;
+        for &a in list {
+            if let Some(l) = self.articulations.list.get(a).and_then(|art| art.links.first()) {
+                woke |= c.islands.wake(&mut self.bodies, l.body as usize);
+            }
+        }
+        if woke {
+            self.relist();
         }
     }
 

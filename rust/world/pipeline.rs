@@ -82,8 +82,14 @@ pub enum StageKind {
     Sleep,
     /// XPBD projection of the joints (after the last drift of a substep).
     Joints,
-    /// Articulations in reduced coordinates: a whole step, substeps their own.
+    /// Articulations in reduced coordinates: a whole step, substeps their own
+    /// (those not in contact this step).
     Articulation,
+    /// The kick of the articulations in contact, before the contact solve of a
+    /// substep (see `crate::articulation::contact`).
+    ArticulationKick,
+    /// Their limits and drift, after the contact solve of a substep.
+    ArticulationDrift,
     /// Particles: prediction by their velocities and gravity.
     ParticlePredict,
     /// Shape matching of the particle clusters.
@@ -138,6 +144,7 @@ impl Stage {
             StageKind::Sleep => "sleep",
             StageKind::Joints => "joints",
             StageKind::Articulation => "articulation",
+            StageKind::ArticulationKick | StageKind::ArticulationDrift => "articulation_contact",
             StageKind::ParticlePredict | StageKind::ParticleProject => "xpbd",
             StageKind::ShapeMatching => "shape_matching",
         }
@@ -166,6 +173,9 @@ pub struct PlanInputs {
     pub joints: bool,
     /// The scene has articulations.
     pub articulations: bool,
+    /// Some articulated link has a collider that another collider's filter
+    /// allows: articulations may step inside the contact substeps.
+    pub articulated_contacts: bool,
     /// The scene has particles / shape-matching clusters.
     pub particles: bool,
     pub clusters: bool,
@@ -199,8 +209,8 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         p.pre.push(Stage::new(StageKind::NarrowPhase, 1.0));
     }
     if inp.articulations {
-        // Articulations touch nothing outside themselves (they fall back to XPBD
-        // otherwise), so their whole step runs on its own, once per step.
+        // An articulation touching nothing this step takes its whole step on its
+        // own, once per step; one in contact steps inside the contact substeps.
         p.pre.push(Stage::whole(StageKind::Articulation, 1.0));
     }
     if dynamic && inp.collisions && !inp.joints && !inp.particles {
@@ -222,12 +232,14 @@ pub fn plan(inp: &PlanInputs, lists: &BodyLists) -> Plan {
         }
     }
     if inp.collisions {
+        articulation_stage(&mut p.sub, inp, StageKind::ArticulationKick);
         p.sub.push(Stage::new(StageKind::Gather { relax: false }, 1.0));
         if inp.impacts {
             p.sub.push(Stage::new(StageKind::Impacts, 1.0));
         }
         p.sub.push(Stage::new(StageKind::WarmStart, 1.0));
         solve(&mut p.sub, inp, false);
+        articulation_stage(&mut p.sub, inp, StageKind::ArticulationDrift);
     }
     if inp.kinematic {
         p.sub.push(Stage::new(StageKind::Kinematic, 1.0));
@@ -312,12 +324,14 @@ fn plan_free_and_touching(mut p: Plan, inp: &PlanInputs, lists: &BodyLists) -> P
     if inp.forces {
         p.sub.push(Stage::new(StageKind::Forces(Group::Touching), 1.0));
     }
+    articulation_stage(&mut p.sub, inp, StageKind::ArticulationKick);
     p.sub.push(Stage::new(StageKind::Gather { relax: false }, 1.0));
     if inp.impacts {
         p.sub.push(Stage::new(StageKind::Impacts, 1.0));
     }
     p.sub.push(Stage::new(StageKind::WarmStart, 1.0));
     solve(&mut p.sub, inp, false);
+    articulation_stage(&mut p.sub, inp, StageKind::ArticulationDrift);
     if inp.kinematic {
         p.sub.push(Stage::new(StageKind::Kinematic, 1.0));
     }
@@ -358,6 +372,13 @@ fn drift(
     }
     if exact_rotation && lists.count(InertiaClass::Asymmetric) > 0 && j == s / 2 {
         stages.push(make(StageKind::RotateFast(group), 1.0));
+    }
+}
+
+/// A stage of the articulations in contact, if the scene may have any.
+fn articulation_stage(sub: &mut Vec<Stage>, inp: &PlanInputs, kind: StageKind) {
+    if inp.articulated_contacts {
+        sub.push(Stage::new(kind, 1.0));
     }
 }
 

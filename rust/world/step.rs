@@ -28,14 +28,15 @@ impl World {
         self.sync_targets();
         self.articulations.invalidate();
         let src = self.kick_sources();
-        let h = self.settings.dt / self.substeps as f64;
         for _ in 0..n {
+            let h = self.settings.dt / self.substeps as f64;
             // Indexing, not iterating: a stage may rebuild the plan (bodies waking
             // in the narrow phase, falling asleep in the sleep stage).
             for k in 0..self.plan.pre.len() {
                 self.timed(self.plan.pre[k], h, &src);
             }
-            for _ in 0..self.substeps {
+            let (substeps, h) = self.step_substeps(h);
+            for _ in 0..substeps {
                 for k in 0..self.plan.sub.len() {
                     self.timed(self.plan.sub[k], h, &src);
                 }
@@ -43,6 +44,7 @@ impl World {
             if let Some(c) = self.collision.as_mut() {
                 c.solver.finish(&mut c.narrow);
             }
+            self.finish_link_contacts(substeps);
             for k in 0..self.plan.post.len() {
                 self.timed(self.plan.post[k], h, &src);
             }
@@ -137,25 +139,37 @@ impl World {
                 }
             }
             StageKind::NarrowPhase => self.narrow_phase(h),
-            StageKind::Gather { .. } => self.with_solver(|s, b| s.gather(b)),
-            StageKind::Scatter { relax } => self.with_solver(|s, b| {
-                s.scatter(b);
-                if relax {
-                    s.write_poses(b)
-                }
-            }),
+            StageKind::Gather { .. } => {
+                self.with_solver(|s, b| s.gather(b));
+                self.gather_links();
+            }
+            StageKind::Scatter { relax } => {
+                self.with_solver(|s, b| {
+                    s.scatter(b);
+                    if relax {
+                        s.write_poses(b)
+                    }
+                });
+                self.scatter_links();
+            }
             StageKind::Impacts => {
                 if let Some(c) = self.collision.as_mut() {
                     c.solver.impacts(&mut self.bodies, h, src, &c.colliders);
                 }
             }
-            StageKind::WarmStart => self.with_solver(|s, _| s.warm_start()),
-            StageKind::Friction { .. } => self.with_solver(|s, _| s.solve_friction()),
+            StageKind::WarmStart => self.with_solver(|s, _| {
+                s.warm_start();
+                s.warm_start_links();
+            }),
+            StageKind::Friction { .. } => self.with_solver(|s, _| {
+                s.solve_friction();
+            }),
             StageKind::Normal { relax } => self.with_solver(|s, _| {
                 if relax {
                     s.correct_positions(h);
                 }
-                s.solve_normal(relax)
+                s.solve_normal(relax);
+                s.solve_links(relax);
             }),
             StageKind::Ccd => {
                 if let Some(c) = self.collision.as_mut() {
@@ -165,6 +179,8 @@ impl World {
             StageKind::Sleep => self.sleep(dt),
             StageKind::Joints => self.project_joints(h),
             StageKind::Articulation => self.step_articulations(),
+            StageKind::ArticulationKick => self.articulation_kick(h),
+            StageKind::ArticulationDrift => self.articulation_drift(h),
             StageKind::ParticlePredict | StageKind::ShapeMatching | StageKind::ParticleProject => {
                 self.particle_stage(stage.kind, hf)
             }
@@ -198,6 +214,7 @@ impl World {
         if c.narrow_phase(&mut self.bodies, dt, h, &self.gravity) {
             self.relist();
         }
+        self.mark_articulation_contacts();
         let Some(c) = self.collision.as_ref() else { return };
         let [free, touching] = &mut self.split;
         self.lists.partition(&c.solver.touching, free, touching);

@@ -75,11 +75,17 @@ impl World {
         }
         let shapes = descs.iter().map(|d| d.shape.clone().map(|s| (s, d.shape_pose))).collect();
         let compiled = super::articulations::compile(scene, &settings)?;
-        let mut joint_pairs = World::joint_pairs(scene);
-        joint_pairs.extend(compiled.link_pairs.iter().copied());
-        joint_pairs.sort_unstable();
-        joint_pairs.dedup();
-        let collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
+        // Links of one articulation collide, as any bodies do, unless a joint
+        // ties them.
+        let joint_pairs = World::joint_pairs(scene);
+        let mut collision = Collision::new(descs, &bodies, &settings, &joint_pairs)?;
+        if let Some(c) = collision.as_mut() {
+            let links: Vec<(Vec<u32>, usize)> =
+                compiled.articulations.list.iter().map(|a| (a.links.iter().map(|l| l.body).collect(), a.nv)).collect();
+            c.solver.gen.set_links(bodies.len(), &links);
+        }
+        let articulated_contacts = collision.is_some()
+            && super::link_contacts::links_may_touch(descs, &compiled.articulated_body);
         let xpbd_joints = compiled.articulated_joint.iter().any(|&a| !a);
         let base = if collision.is_some() { 4 } else { 1 };
         let xpbd_base = if xpbd_joints { super::joints::xpbd_substeps(scene, &compiled.articulated_joint) } else { 1 };
@@ -104,6 +110,7 @@ impl World {
             iterations: settings.iterations,
             joints: xpbd_joints,
             articulations: !compiled.articulations.is_empty(),
+            articulated_contacts,
             particles: !scene.xpbd.is_empty(),
             clusters: !scene.xpbd.clusters.is_empty(),
         };

@@ -12,6 +12,7 @@ No tolerances: "unchanged" is compared byte for byte.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -243,3 +244,18 @@ def test_build_accepts_the_documented_edge_values(kwargs):
     world.step(60)
     assert np.all(np.isfinite(world.bodies.position))
     assert world.bodies.position[2, 2] > 0.0
+
+
+def test_contact_hertz_above_the_substep_rate_warns_and_is_capped():
+    # A contact stiffer than a quarter of the substep rate overshoots within one
+    # substep; the solver caps it there (4 substeps at 60 Hz: 60 Hz), and a user who
+    # asked for more is told, with the cap and what to change.
+    cap = 0.25 * 4 / DT
+    with pytest.warns(UserWarning, match=r"contact_hertz=1000.*substeps") as caught:
+        world = base_scene().build(dt=DT, substeps=4, contact_hertz=1000.0)
+    assert f"{cap:.4f}" in str(caught[0].message)
+    world.step(60)
+    assert np.all(np.isfinite(world.bodies.position))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        base_scene().build(dt=DT, substeps=4, contact_hertz=cap)

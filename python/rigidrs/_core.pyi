@@ -344,7 +344,8 @@ class Scene:
         (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
         (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
         close in a step; resting penetration stays within it; default 0.005), ``contact_hertz`` (Hz,
-        contact stiffness, default 30), ``contact_damping_ratio`` (default 10),
+        how fast penetration beyond the rest depth is pushed out, default 30; capped at a
+        quarter of the substep rate, with a ``UserWarning`` at build when asked for more), ``contact_damping_ratio`` (default 10),
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).

@@ -191,6 +191,7 @@ impl PyScene {
     #[allow(clippy::too_many_arguments)]
     fn build(
         &self,
+        py: Python<'_>,
         dt: f64,
         integrator: &str,
         substeps: Option<i64>,
@@ -224,6 +225,25 @@ impl PyScene {
             substeps: articulation_substeps.map(|n| small(n, "articulation_substeps")).transpose()?,
         };
         s.max_rotation_angle = max_rotation_angle;
-        Ok(PyWorld::new(self.inner.build(&s).py_err()?))
+        let world = self.inner.build(&s).py_err()?;
+        warn_stiffness_capped(py, contact_hertz, dt, world.substeps())?;
+        Ok(PyWorld::new(world))
     }
+}
+
+/// A `contact_hertz` the substep cannot resolve is capped at a quarter of the
+/// substep rate (a stiffer contact would overshoot within one substep): say so
+/// rather than let a user believe the contacts are as stiff as asked.
+fn warn_stiffness_capped(py: Python<'_>, hertz: f64, dt: f64, substeps: u32) -> PyResult<()> {
+    let cap = 0.25 * f64::from(substeps.max(1)) / dt;
+    if hertz <= cap {
+        return Ok(());
+    }
+    let msg = format!(
+        "contact_hertz={hertz} Hz is above a quarter of the substep rate ({substeps} substeps of dt={dt} s): \
+         contacts use {cap:.4} Hz; raise substeps or lower contact_hertz"
+    );
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    let msg = std::ffi::CString::new(msg).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(py, &category, &msg, 1)
 }

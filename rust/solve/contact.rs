@@ -22,8 +22,9 @@ use crate::math::{quat, Mat3, Quat, Vec3};
 /// Contact solver parameters, each with its unit and default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverSettings {
-    /// Stiffness of contacts as a natural frequency (Hz); capped at a quarter of
-    /// the substep rate. Default 30.
+    /// Rate at which penetration beyond the rest depth is pushed out, as a natural
+    /// frequency (Hz); capped at a quarter of the substep rate (the Python build
+    /// warns when it is). Default 30.
     pub contact_hertz: f64,
     /// Damping ratio of contacts (–). Default 10 (over-damped: no bounce from the
     /// position correction).
@@ -34,7 +35,7 @@ pub struct SolverSettings {
     pub restitution_threshold: f64,
     /// Linear slop (m): contacts are created this far before touching, on top of
     /// the distance bodies can close in a step; resting contacts sink less than
-    /// it (the soft contact's sag is `g/ω²`, 0.28 mm at 30 Hz). Default 0.005.
+    /// it (they rest at `REST_DEPTH` of it, 1 µm by default). Default 0.005.
     pub slop: f64,
 }
 

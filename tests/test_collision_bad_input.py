@@ -259,3 +259,11 @@ def test_contact_hertz_above_the_substep_rate_warns_and_is_capped():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         base_scene().build(dt=DT, substeps=4, contact_hertz=cap)
+
+
+def test_default_contact_hertz_does_not_warn_at_one_substep():
+    # The default rate is the engine's choice, capped quietly; only a rate the user
+    # asked for and does not get is worth a warning.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        base_scene().build(dt=1 / 60, substeps=1).step(10)

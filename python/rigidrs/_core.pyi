@@ -321,7 +321,7 @@ class Scene:
         sleep: bool = True,
         restitution_threshold: float = 1.0,
         slop: float = 0.005,
-        contact_hertz: float = 30.0,
+        contact_hertz: float | None = None,
         contact_damping_ratio: float = 10.0,
         max_push_velocity: float = 3.0,
         sleep_linear: float = 0.05,
@@ -344,8 +344,9 @@ class Scene:
         (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
         (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
         close in a step; resting penetration stays within it; default 0.005), ``contact_hertz`` (Hz,
-        how fast penetration beyond the rest depth is pushed out, default 30; capped at a
-        quarter of the substep rate, with a ``UserWarning`` at build when asked for more), ``contact_damping_ratio`` (default 10),
+        how fast penetration beyond the rest depth is pushed out, default None: 30; capped at a
+        quarter of the substep rate, with a ``UserWarning`` at build when a rate given here is
+        capped in a world with contacts), ``contact_damping_ratio`` (default 10),
         ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).

@@ -183,7 +183,7 @@ impl PyScene {
 
     /// Compiles the scene into a `World`. See the stub for the parameters.
     #[pyo3(signature = (dt, integrator="strang", substeps=None, iterations=1, *, sleep=true,
-                        restitution_threshold=1.0, slop=0.005, contact_hertz=30.0,
+                        restitution_threshold=1.0, slop=0.005, contact_hertz=None,
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
                         sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5,
                         articulations=true, articulation_integrator="leapfrog", articulation_substeps=None,
@@ -199,7 +199,7 @@ impl PyScene {
         sleep: bool,
         restitution_threshold: f64,
         slop: f64,
-        contact_hertz: f64,
+        contact_hertz: Option<f64>,
         contact_damping_ratio: f64,
         max_push_velocity: f64,
         sleep_linear: f64,
@@ -217,6 +217,8 @@ impl PyScene {
         };
         s.substeps = substeps.map(|n| small(n, "substeps")).transpose()?;
         s.iterations = small(iterations, "iterations")?;
+        let asked = contact_hertz;
+        let contact_hertz = contact_hertz.unwrap_or(SolverSettings::default().contact_hertz);
         s.solver = SolverSettings { contact_hertz, contact_damping_ratio, max_push_velocity, restitution_threshold, slop };
         s.sleep = SleepSettings { enabled: sleep, linear: sleep_linear, angular: sleep_angular, time: sleep_time };
         s.articulation = ArticulationSettings {
@@ -226,7 +228,9 @@ impl PyScene {
         };
         s.max_rotation_angle = max_rotation_angle;
         let world = self.inner.build(&s).py_err()?;
-        warn_stiffness_capped(py, contact_hertz, dt, world.substeps())?;
+        if let (Some(hertz), true) = (asked, world.collision.is_some()) {
+            warn_stiffness_capped(py, hertz, dt, world.substeps())?;
+        }
         Ok(PyWorld::new(world))
     }
 }

@@ -225,8 +225,13 @@ impl ContactSolver {
             b.k = koff;
             koff += m * m;
         }
-        s.k.resize(koff as usize, 0.0);
-        s.factor.resize(koff as usize, 0.0);
+        // Only grown, never cleared: `ensure_k` writes every entry of a block's
+        // `K` and `factor` every entry it reads before either is used, and
+        // zeroing them each step cost 4 % of a pyramid's step.
+        if s.k.len() < koff as usize {
+            s.k.resize(koff as usize, 0.0);
+            s.factor.resize(koff as usize, 0.0);
+        }
     }
 
     /// `J`, `M⁻¹Jᵀ` and `Q` of block `g`'s rows at the current arms.

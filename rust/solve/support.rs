@@ -101,8 +101,6 @@ impl ContactSolver {
         s.blocks.clear();
         s.faces.clear();
         s.rows.clear();
-        s.k.clear();
-        s.factor.clear();
         if gravity <= 0.0 || self.constraints.is_empty() {
             self.ordinary.extend(0..self.constraints.len() as u32);
             return;

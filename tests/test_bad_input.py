@@ -168,6 +168,19 @@ ADD_BODY = {
     "Plane with mass": (dict(shape=rr.Plane(), mass=1.0), rr.RigidError, ["body 3", "Plane", "fixed"]),
     "Plane with mass and inertia": (dict(shape=rr.Plane(), mass=1.0, inertia=(1.0, 1.0, 1.0)), rr.RigidError, ["body 3", "Plane", "fixed"]),
     "Plane without mass": (dict(shape=rr.Plane()), rr.RigidError, ["body 3", "Plane"]),
+    # regressions: a non-fixed Plane got through mass_properties= and kinematic=True (and fell)
+    "Plane with mass_properties": (
+        dict(shape=rr.Plane(), mass_properties=SPHERE.mass_properties(1.0)), rr.RigidError, ["body 3", "Plane", "fixed"],
+    ),
+    "Plane kinematic": (dict(shape=rr.Plane(), kinematic=True), rr.RigidError, ["body 3", "Plane", "fixed", "kinematic"]),
+    # regressions: fixed and kinematic bodies took NaN, inf and negative inertia
+    "fixed, inertia NaN": (dict(mass=1.0, inertia=(NAN, 1.0, 1.0), fixed=True), rr.RigidError, ["body 3", "inertia", "finite"]),
+    "kinematic, inertia negative": (
+        dict(mass=1.0, inertia=(-1.0, 1.0, 1.0), kinematic=True), rr.RigidError, ["body 3", "inertia", "positive"],
+    ),
+    "fixed, inertia inf": (dict(mass=1.0, inertia=(INF, 1.0, 1.0), fixed=True), rr.RigidError, ["body 3", "inertia", "finite"]),
+    # regression: an overflowing mass was reported as "got 0"
+    "Sphere(1e200)": (dict(shape=rr.Sphere(1e200), density=1000.0), rr.ShapeError, ["body 3", "Sphere", "overflows"]),
     # meshes that cannot carry mass, as dynamic bodies
     "open TriMesh": (dict(shape=rr.TriMesh(TET_V, TET_T[:3]), density=1.0), rr.ShapeError, ["body 3", "TriMesh", "closed"]),
     "inward TriMesh": (dict(shape=rr.TriMesh(TET_V, TET_T[:, ::-1]), density=1.0), rr.ShapeError, ["body 3", "TriMesh", "inward"]),

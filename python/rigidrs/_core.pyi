@@ -347,7 +347,9 @@ class Scene:
         how fast penetration beyond the rest depth is pushed out, default None: 30; capped at a
         quarter of the substep rate, with a ``UserWarning`` at build when a rate given here is
         capped in a world with contacts), ``contact_damping_ratio`` (default 10),
-        ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3). Sleeping:
+        ``max_push_velocity`` (m/s, fastest push-out of penetration, default 3: the
+        relative speed at each contact, so bodies pushed out of a chain of overlaps add up their
+        contacts' speeds). Sleeping:
         ``sleep`` (default True); an island sleeps after ``sleep_time`` s (0.5) with every
         body below ``sleep_linear`` m/s (0.05) and ``sleep_angular`` rad/s (0.05).
         ``iterations`` is also the number of XPBD constraint passes per substep (each a

@@ -219,6 +219,15 @@ impl Shape {
             }
             _ => self.parry.mass_properties(density),
         };
+        // parry keeps 1/mass and reads a zero back as a zero mass: a mass that
+        // overflowed (a 1e200 m sphere) would be reported as "got 0".
+        if mp.inv_mass == 0.0 || !mp.inv_mass.is_finite() {
+            return Err(Error::shape(format!(
+                "{}: mass overflows at density {density} kg/m³ (density × volume is not a finite number): \
+                 the shape is too large",
+                self.name()
+            )));
+        }
         let mp = mp.transform_by(&self.parry_pose);
         let props = MassProps {
             mass: mp.mass(),

@@ -167,6 +167,21 @@ fn unit_quaternion(q: [f64; 4]) -> Result<Quat> {
     Ok(qq / n)
 }
 
+/// What a fixed or kinematic body is given must make sense too, though its mass
+/// is infinite: a NaN or negative inertia is a mistake the user should hear about,
+/// and a `Plane` (a half-space) can only be fixed.
+fn check_static_body(spec: &BodySpec) -> Result<()> {
+    let is_plane = spec.shape.as_ref().is_some_and(|s| s.name() == "Plane");
+    if is_plane && !spec.fixed {
+        let how = if spec.kinematic { "kinematic=True" } else { "a dynamic body" };
+        return Err(Error::input(format!("a Plane is a half-space with no finite mass: it must be fixed=True, not {how}")));
+    }
+    if (spec.fixed || spec.kinematic) && (spec.inertia.is_some() || spec.mass_properties.is_some()) {
+        mass_of(spec)?;
+    }
+    Ok(())
+}
+
 /// The mass properties `spec` asks for, in the frame of its position/orientation.
 fn mass_of(spec: &BodySpec) -> Result<MassProps> {
     let given = |b: bool, n: &'static str| if b { Some(n) } else { None };
@@ -237,6 +252,7 @@ fn describe(spec: BodySpec) -> Result<BodyDesc> {
     if spec.ccd && spec.shape.is_none() {
         return Err(Error::input("ccd=True needs a shape to sweep"));
     }
+    check_static_body(&spec)?;
     let (kind, props) = if spec.fixed {
         (BodyKind::Fixed, None)
     } else if spec.kinematic {

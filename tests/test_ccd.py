@@ -131,3 +131,38 @@ def test_ccd_sphere_falling_fast_onto_the_ground_stays_above_it():
         world.step(1)
         lowest = min(lowest, world.bodies.position[ball, 2])
     assert lowest >= R - SLOP
+
+
+def fly_past_a_ball(clearance: float, *, ccd: bool) -> tuple[np.ndarray, np.ndarray]:
+    """A 1 m box at (1000, 1000, 0) m/s, zero gravity, whose path passes a fixed
+    ball (r = 0.5 m) with `clearance` between the ball and the box's swept faces
+    (negative: they hit); one step of 1/60 s (23.6 m of travel)."""
+    scene = rr.Scene(gravity=(0.0, 0.0, 0.0))
+    side = np.array([-1.0, 1.0, 0.0]) / math.sqrt(2.0)
+    half_width = math.sqrt(2.0) * 0.5  # the box's extent across its diagonal path
+    centre = np.array([8.0, 8.0, 0.0]) + (0.5 + half_width + clearance) * side
+    scene.add_body(rr.Sphere(0.5), fixed=True, position=tuple(centre))
+    scene.add_body(rr.Box((0.5, 0.5, 0.5)), density=1000.0, linear_velocity=(1000.0, 1000.0, 0.0), ccd=ccd)
+    world = scene.build(dt=1 / 60)
+    world.step(1)
+    return world.bodies.linear_velocity[1].copy(), world.bodies.position[1].copy()
+
+
+@pytest.mark.parametrize("ccd", [True, False])
+@pytest.mark.parametrize("clearance", [0.14, 1.0, 3.0])
+def test_fast_box_passing_clear_of_a_ball_is_not_stopped(clearance, ccd):
+    # Regression: speculative contacts took the closest features now for the
+    # features that would meet, and stopped a box whose path misses the ball
+    # (the issue: (1000, 1000, 0) m/s out as (483, 1000, 0)). Nothing touches it:
+    # it flies on at its speed, exactly (zero gravity, no contact impulse).
+    v, p = fly_past_a_ball(clearance, ccd=ccd)
+    assert np.array_equal(v, [1000.0, 1000.0, 0.0])
+    assert np.allclose(p, [1000.0 / 60, 1000.0 / 60, 0.0], rtol=0, atol=1e-12)
+
+
+def test_fast_box_whose_path_hits_the_ball_is_stopped_by_it():
+    # The same box aimed 0.2 m into the ball: with CCD it ends the step short of
+    # the ball's far side, slowed along its path.
+    v, p = fly_past_a_ball(-0.2, ccd=True)
+    assert p[0] + p[1] < 2 * 8.0
+    assert v[0] + v[1] < 2000.0 - 100.0

@@ -7,6 +7,7 @@ pub mod collider;
 pub mod face_points;
 pub mod material;
 pub mod narrow_phase;
+mod passing;
 pub mod plane_hull;
 
 pub use collider::{Collider, Filter};

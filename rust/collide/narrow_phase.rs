@@ -108,11 +108,12 @@ pub struct NarrowPhase {
 /// pair is left as it was), else whether some point is within it.
 fn step_pair(state: &mut PairState, colliders: &[Collider], bodies: &Bodies, pred: &Prediction) -> Option<bool> {
     let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
-    let prediction = prediction_of(c1, c2, bodies, pred);
+    let approach = Approach::of(c1, c2, bodies, pred);
+    let prediction = prediction_of(c1, c2, &approach, pred);
     if far_apart(c1, c2, bodies, prediction) {
         return None;
     }
-    state.prediction = prediction;
+    state.prediction = super::passing::narrowed(c1, c2, bodies, pred, &approach, prediction);
     Some(update_pair(state, c1, c2, bodies))
 }
 
@@ -190,9 +191,9 @@ impl NarrowPhase {
 /// as far as the bodies can travel in a step, but a body without CCD looks no
 /// further than its own size ahead: a bullet without CCD may tunnel, with it
 /// never does.
-fn prediction_of(c1: &Collider, c2: &Collider, bodies: &Bodies, pred: &Prediction) -> f64 {
+fn prediction_of(c1: &Collider, c2: &Collider, approach: &Approach, pred: &Prediction) -> f64 {
     let reach = if c1.ccd || c2.ccd { f64::INFINITY } else { c1.reach.min(c2.reach) };
-    pred.margin + (pred.dt * approach_bound(c1, c2, bodies, pred)).min(reach)
+    pred.margin + (pred.dt * approach.bound(pred.dt)).min(reach)
 }
 
 /// Whether the balls of radius `reach` around the two bodies' centres are more
@@ -290,25 +291,40 @@ fn swap_sides(m: &mut Manifold) {
     }
 }
 
-/// An upper bound of the speed at which the two shapes approach over a step
-/// (m/s): their relative velocity and what it can gain in a step from gravity and
-/// applied forces (gravity cancels between two free bodies), and how fast each
-/// one's surface turns, torques included. Bodies falling side by side do not
-/// approach, whatever their speed.
-fn approach_bound(c1: &Collider, c2: &Collider, b: &Bodies, pred: &Prediction) -> f64 {
-    let n = |a: Vec3| a.norm();
-    let (i1, i2) = (c1.body as usize, c2.body as usize);
-    let accel = |i: usize| if b.awake(i) { pred.gravity + Vec3::from(b.force[i]) * b.inv_mass[i] } else { Vec3::zeros() };
-    let dv = Vec3::from(b.linear_velocity[i1]) - Vec3::from(b.linear_velocity[i2]) + (accel(i1) - accel(i2)) * pred.dt;
-    let turning = |c: &Collider, i: usize| {
-        let mut w = n(Vec3::from(b.angular_velocity[i]));
-        if b.awake(i) {
-            w += pred.dt * n(Vec3::from(b.torque[i])) * b.inv_inertia[i].iter().fold(0.0, |m: f64, &x| m.max(x));
+/// How two shapes move toward each other over a step: their relative velocity
+/// (body 1's minus body 2's, m/s), the relative acceleration from gravity and
+/// applied forces (gravity cancels between two free bodies, m/s²) and how fast
+/// each one's surface can turn, torques included (m/s).
+pub(super) struct Approach {
+    pub velocity: Vec3,
+    pub accel: Vec3,
+    pub turning: f64,
+}
+
+impl Approach {
+    pub(super) fn of(c1: &Collider, c2: &Collider, b: &Bodies, pred: &Prediction) -> Self {
+        let (i1, i2) = (c1.body as usize, c2.body as usize);
+        let accel = |i: usize| if b.awake(i) { pred.gravity + Vec3::from(b.force[i]) * b.inv_mass[i] } else { Vec3::zeros() };
+        let turning = |c: &Collider, i: usize| {
+            let mut w = Vec3::from(b.angular_velocity[i]).norm();
+            if b.awake(i) {
+                w += pred.dt * Vec3::from(b.torque[i]).norm() * b.inv_inertia[i].iter().fold(0.0, |m: f64, &x| m.max(x));
+            }
+            // A half-space never turns (its reach is infinite): no 0·∞ here.
+            if w > 0.0 { w * c.reach } else { 0.0 }
+        };
+        Approach {
+            velocity: Vec3::from(b.linear_velocity[i1]) - Vec3::from(b.linear_velocity[i2]),
+            accel: accel(i1) - accel(i2),
+            turning: turning(c1, i1) + turning(c2, i2),
         }
-        // A half-space never turns (its reach is infinite): no 0·∞ here.
-        if w > 0.0 { w * c.reach } else { 0.0 }
-    };
-    n(dv) + turning(c1, i1) + turning(c2, i2)
+    }
+
+    /// An upper bound of the speed at which the two shapes approach over the step
+    /// (m/s). Bodies falling side by side do not approach, whatever their speed.
+    pub(super) fn bound(&self, dt: f64) -> f64 {
+        (self.velocity + self.accel * dt).norm() + self.turning
+    }
 }
 
 /// Whether parry generates contacts between these two shapes (checked at build).

@@ -292,9 +292,12 @@ pub fn shape_matched_body(
         }
         let mut covered = vec![false; pts.len()];
         let mut ids = Vec::new();
+        let cells = Cells::new(&pts, lo, s, nodes);
+        let mut members = Vec::new();
         for node in grid(nodes) {
             let c = lo + Vec3::from_fn(|a, _| node[a] as f64 * s);
-            let members: Vec<usize> = (0..pts.len()).filter(|&k| (pts[k] - c).amax() <= s).collect();
+            cells.near(node, &mut members);
+            members.retain(|&k| (pts[k] - c).amax() <= s);
             let idx: Vec<i64> = members.iter().map(|&k| (r.start + k) as i64).collect();
             if members.len() < 4 || m.add_cluster(&idx, spec).map(|id| ids.push(id)).is_err() {
                 continue;
@@ -309,6 +312,57 @@ pub fn shape_matched_body(
         }
         Ok((r, ids))
     })
+}
+
+/// The points bucketed by the grid cell they lie in (cell `i` spans nodes `i` and
+/// `i + 1` along each axis): a node's cluster takes its members from the cells
+/// around it instead of from every point, so clustering is linear in the points.
+struct Cells {
+    nodes: Vec3Usize,
+    /// Point indices ordered by cell, and where each cell's run starts.
+    order: Vec<usize>,
+    start: Vec<usize>,
+}
+
+impl Cells {
+    fn new(pts: &[Vec3], lo: Vec3, s: f64, nodes: Vec3Usize) -> Self {
+        let cell = |p: &Vec3| -> usize {
+            let c = Vec3Usize::from_fn(|a, _| (((p[a] - lo[a]) / s).floor().max(0.0) as usize).min(nodes[a] - 1));
+            c[0] + nodes[0] * (c[1] + nodes[1] * c[2])
+        };
+        let count = nodes[0] * nodes[1] * nodes[2];
+        let mut start = vec![0usize; count + 1];
+        let keys: Vec<usize> = pts.iter().map(cell).collect();
+        for &k in &keys {
+            start[k + 1] += 1;
+        }
+        for i in 0..count {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut order = vec![0usize; pts.len()];
+        for (k, &c) in keys.iter().enumerate() {
+            order[fill[c]] = k;
+            fill[c] += 1;
+        }
+        Cells { nodes, order, start }
+    }
+
+    /// Every point in the cells touching `node` (a superset of those within one
+    /// cell size of it), in increasing index order.
+    fn near(&self, node: [usize; 3], out: &mut Vec<usize>) {
+        out.clear();
+        let span = |a: usize| node[a].saturating_sub(1)..=(node[a] + 1).min(self.nodes[a] - 1);
+        for k in span(2) {
+            for j in span(1) {
+                for i in span(0) {
+                    let c = i + self.nodes[0] * (j + self.nodes[1] * k);
+                    out.extend_from_slice(&self.order[self.start[c]..self.start[c + 1]]);
+                }
+            }
+        }
+        out.sort_unstable();
+    }
 }
 
 fn bounds(p: &[Vec3]) -> (Vec3, Vec3) {

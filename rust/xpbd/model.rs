@@ -204,13 +204,12 @@ impl XpbdModel {
     pub fn add_cluster(&mut self, particles: &[i64], spec: ClusterSpec) -> Result<usize> {
         let index = self.clusters.len();
         let c = (|| {
-            let mut ids = Vec::with_capacity(particles.len());
-            for &p in particles {
-                let i = self.particle(p)?;
-                if ids.contains(&i) {
-                    return Err(Error::input(format!("particle {p} appears twice")));
-                }
-                ids.push(i);
+            let ids = particles.iter().map(|&p| self.particle(p)).collect::<Result<Vec<_>>>()?;
+            // Sorted, not searched: a body of a million particles is one cluster.
+            let mut sorted = ids.clone();
+            sorted.sort_unstable();
+            if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+                return Err(Error::input(format!("particle {} appears twice", w[0])));
             }
             let x: Vec<Vec3> = ids.iter().map(|&i| self.position(i)).collect();
             let m: Vec<f64> = ids.iter().map(|&i| self.particles.mass[i as usize]).collect();

@@ -210,7 +210,7 @@ fn coulomb(full: f64, lambda_n: f64, lambda_t: f64, static_friction: f64, fricti
     if lambda_t + full <= static_friction * lambda_n {
         full
     } else {
-        (friction * lambda_n - lambda_t).clamp(0.0, full)
+        (friction * lambda_n - lambda_t).min(full).max(0.0)
     }
 }
 

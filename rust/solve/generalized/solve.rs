@@ -137,7 +137,8 @@ impl ContactSolver {
                 let mu = if f.sliding { c.friction } else { c.static_friction };
                 let limit = mu * jn.max(f.settled) * f.shape.lever;
                 let spin = g.rows[t + 2].velocity(&self.bodies, &g.qd, &g.jac);
-                let twist = (f.twist - lc.twist_mass * spin).clamp(-limit, limit);
+                // Not `clamp`: it panics on a NaN bound, and a step must not.
+                let twist = (f.twist - lc.twist_mass * spin).min(limit).max(-limit);
                 dt = twist - f.twist;
                 f.twist = twist;
             }

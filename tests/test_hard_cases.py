@@ -114,7 +114,7 @@ HARD_CASES: dict[str, list[str]] = {
     "friction angle: μs = tan θ + 0.01 creeps < 0.1 mm; μ = tan θ − 0.01 slides at g(sin θ − μ cos θ), awake": [
         "test_friction::test_friction_angle_holds_just_above_and_slides_just_below",
     ],
-    "top on its tip: spin 1 %, precession 2 % (tilt 1°, tip 5 mm: strict xfail)": [
+    "top on its tip: spin 1 %, precession 2 %, tilt 1°, tip 5 mm": [
         "test_friction::test_top_on_its_tip_keeps_its_spin_and_precesses_at_the_slow_root",
         "test_friction::test_top_on_its_tip_keeps_its_tilt_and_its_tip_in_place",
     ],

@@ -51,6 +51,8 @@ pub struct Collider {
     /// A hull (or a compound with one) with a face of more than four corners,
     /// which parry's manifolds hold at four (see `face_points`).
     pub many_cornered: bool,
+    /// Which of its contact points are corners (see [`super::corners`]).
+    pub corners: super::corners::Corners,
 }
 
 impl Collider {

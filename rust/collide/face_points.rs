@@ -161,6 +161,7 @@ mod tests {
             reach: 1.0,
             ccd: false,
             ball: None,
+            corners: Default::default(),
         };
         let (c1, c2) = (collider(slab), collider(hull));
         assert!(c2.many_cornered && !c1.many_cornered);
@@ -221,6 +222,7 @@ mod tests {
             reach: 1.0,
             ccd: false,
             ball: None,
+            corners: Default::default(),
         };
         let (c1, c2) = (collider(slab), collider(hull));
         for (k, eps) in (0..400).map(|k| (k, (k % 9) as f64 * 2.7e-17 - 1.1e-16)) {

@@ -4,6 +4,7 @@
 pub mod broad_phase;
 pub mod ccd;
 pub mod collider;
+pub mod corners;
 pub mod face_points;
 pub mod material;
 pub mod narrow_phase;

@@ -14,6 +14,7 @@ use super::soft::Softness;
 use super::solver_body::{Gap, Pair, SolverBody};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
+use crate::collide::corners::Corners;
 use crate::collide::material::{combine, ContactMaterial};
 use crate::collide::narrow_phase::{ContactReport, Contacts, NarrowPhase};
 use nalgebra::Isometry3;
@@ -62,6 +63,8 @@ pub struct PairContext {
     pub x1: Vec3,
     pub x2: Vec3,
     pub material: ContactMaterial,
+    /// Which contact points of each shape are its corners.
+    pub corners: [Corners; 2],
     pub pair: (u32, u32),
     /// Index of the pair in the narrow phase's `pairs`.
     pub slot: u32,
@@ -97,6 +100,9 @@ pub struct Point {
     pub total_normal: f64,
     /// Index of this point in its parry manifold.
     pub manifold_point: u32,
+    /// Which body the point is a corner of and turns with (1 or 2), or 0: it
+    /// moves with the bodies' translations only (see `refresh_constraint`).
+    pub corner: u8,
 }
 
 /// The points of one manifold, sharing bodies, normal and material.
@@ -258,6 +264,7 @@ impl ContactSolver {
             x1: Vec3::from(b.position[b1]),
             x2: Vec3::from(b.position[b2]),
             material: combine(&c1.material, &c2.material),
+            corners: [c1.corners, c2.corners],
             pair,
             slot,
         }
@@ -289,6 +296,11 @@ impl ContactSolver {
                 point: mid,
                 normal_impulse: if warm { tp.data.normal_impulse } else { 0.0 },
                 manifold_point: k as u32,
+                corner: match (ctx.corners[0].at(tp.fid1, &tp.local_p1), ctx.corners[1].at(tp.fid2, &tp.local_p2)) {
+                    (true, false) => 1,
+                    (false, true) => 2,
+                    _ => 0,
+                },
                 ..Default::default()
             };
             self.masses(&mut p, ctx.s1 as usize, ctx.s2 as usize, &n);
@@ -336,11 +348,13 @@ impl ContactSolver {
 
     /// Arms and effective masses of one constraint's points at the current poses.
     ///
-    /// The contact point moves with the bodies' translations weighted by their
-    /// inverse masses: it stays under a sphere sliding on the ground and follows a
-    /// box across it, and both arms end at it, so equal and opposite impulses keep
-    /// angular momentum exactly. (Following material points instead would tilt a
-    /// sliding sphere's arm and spin it up without friction.)
+    /// A corner of one body (a box's, a top's tip: see [`Corners`]) is a material
+    /// point: it turns with that body. Any other contact point moves with the
+    /// bodies' translations weighted by their inverse masses: it stays under a
+    /// sphere sliding on the ground and follows a box across it (following the
+    /// material point would tilt a sliding sphere's arm and spin it up without
+    /// friction). Both arms end at the same point, so equal and opposite impulses
+    /// keep angular momentum exactly.
     pub(crate) fn refresh_constraint(&mut self, ci: usize) {
         let c = self.constraints[ci];
         let (a1, a2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
@@ -349,8 +363,21 @@ impl ContactSolver {
         let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
         let (b1, b2) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
         for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
-            p.r1 = p.anchor1 + shift - dp1;
-            p.r2 = p.anchor2 + shift - dp2;
+            // Both anchors start at one world point: x1 + a1 = x2 + a2.
+            match p.corner {
+                1 => {
+                    p.r1 = quat::rotate(&b1.dq, &p.anchor1);
+                    p.r2 = p.anchor2 + (dp1 + p.r1 - p.anchor1) - dp2;
+                }
+                2 => {
+                    p.r2 = quat::rotate(&b2.dq, &p.anchor2);
+                    p.r1 = p.anchor1 + (dp2 + p.r2 - p.anchor2) - dp1;
+                }
+                _ => {
+                    p.r1 = p.anchor1 + shift - dp1;
+                    p.r2 = p.anchor2 + shift - dp2;
+                }
+            }
             normal_mass(p, b1, b2, &c.normal);
         }
         self.refresh_patch(ci);

@@ -73,6 +73,7 @@ pub(crate) fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
         ccd: d.ccd,
         ball: shape.parry.as_ball().map(|b| b.radius),
         many_cornered: crate::collide::face_points::many_cornered(shape.parry.as_ref()),
+        corners: crate::collide::corners::Corners::of(shape.parry.as_ref()),
     })
 }
 

@@ -23,7 +23,8 @@ from typing import Any, TextIO
 
 from .. import __version__
 from .base import Config, Method, Point, Problem
-from .contact import BouncingBall, Incline, SlipToRoll
+from .articulation import ChainEnergy, HingePendulum
+from .contact import BouncingBall, Incline, SlipToRoll, SpinningPlate, Tower
 from .plots import write_plots
 from .progress import Progress
 from .rigid import AsymmetricTop, Disc, Dzhanibekov, FastRod, FastSpinner, Projectile
@@ -35,7 +36,8 @@ __all__ = ["PROBLEMS", "Config", "Method", "Point", "Problem", "Report", "Result
            "slope"]
 
 ALL: tuple[type[Problem], ...] = (AsymmetricTop, Dzhanibekov, Disc, FastRod, FastSpinner, HeavyTop, Projectile,
-                                  BouncingBall, Incline, SlipToRoll, Pendulum, HangingChain)
+                                  BouncingBall, Incline, SlipToRoll, Tower, SpinningPlate, Pendulum, HangingChain,
+                                  HingePendulum, ChainEnergy)
 PROBLEMS: dict[str, type[Problem]] = {cls.name: cls for cls in ALL}
 
 QUICK = Config(full=False, points=5, repeats=3, copies=16)

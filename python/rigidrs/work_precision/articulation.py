@@ -127,7 +127,10 @@ class HingePendulum(JointProblem):
         pos, vel = world.bodies.position, world.bodies.linear_velocity
         x, v, gap = np.empty(point.steps), np.empty(point.steps), 0.0
         for k in range(point.steps):
-            world.step()
+            try:
+                world.step()
+            except StateError:  # blew up: not finite any more
+                return {"error": math.inf, "phase_error": math.inf, "stretch": math.inf}
             p, u = pos[0], vel[0]
             r2 = p[0] ** 2 + p[2] ** 2
             x[k], v[k] = math.atan2(p[0], -p[2]), (-p[2] * u[0] + p[0] * u[2]) / r2

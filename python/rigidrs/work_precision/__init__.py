@@ -2,7 +2,8 @@
 
 ``rigidrs.accuracy()`` (or ``rigidrs accuracy`` on the command line) runs reference
 problems with exact solutions for every integrator over at least two decades of
-dt, and the contact and XPBD problems over solver iterations and substeps. For
+dt, jointed problems as articulations (every articulation integrator) and as XPBD
+joints, and the contact and XPBD problems over solver iterations and substeps. For
 each run it measures the error against the exact reference and the cost: CPU
 time of the core per simulated second (one ``world.step(n)`` call, no Python in
 it, median of repeats). It writes a markdown table (``report.md``, with the cost

@@ -2,7 +2,8 @@
 
 ``rigidrs.accuracy()`` (or ``rigidrs accuracy`` on the command line) runs reference
 problems with exact solutions for every integrator over at least two decades of
-dt, and the contact and XPBD problems over solver iterations and substeps. For
+dt, jointed problems as articulations (every articulation integrator) and as XPBD
+joints, and the contact and XPBD problems over solver iterations and substeps. For
 each run it measures the error against the exact reference and the cost: CPU
 time of the core per simulated second (one ``world.step(n)`` call, no Python in
 it, median of repeats). It writes a markdown table (``report.md``, with the cost
@@ -23,7 +24,8 @@ from typing import Any, TextIO
 
 from .. import __version__
 from .base import Config, Method, Point, Problem
-from .contact import BouncingBall, Incline, SlipToRoll
+from .articulation import ChainEnergy, HingePendulum
+from .contact import BouncingBall, Incline, SlipToRoll, SpinningPlate, Tower
 from .plots import write_plots
 from .progress import Progress
 from .rigid import AsymmetricTop, Disc, Dzhanibekov, FastRod, FastSpinner, Projectile
@@ -35,7 +37,8 @@ __all__ = ["PROBLEMS", "Config", "Method", "Point", "Problem", "Report", "Result
            "slope"]
 
 ALL: tuple[type[Problem], ...] = (AsymmetricTop, Dzhanibekov, Disc, FastRod, FastSpinner, HeavyTop, Projectile,
-                                  BouncingBall, Incline, SlipToRoll, Pendulum, HangingChain)
+                                  BouncingBall, Incline, SlipToRoll, Tower, SpinningPlate, Pendulum, HangingChain,
+                                  HingePendulum, ChainEnergy)
 PROBLEMS: dict[str, type[Problem]] = {cls.name: cls for cls in ALL}
 
 QUICK = Config(full=False, points=5, repeats=3, copies=16)

@@ -25,7 +25,10 @@ class Method:
     ``order``: the nominal order of convergence in h drawn as a reference slope.
     ``max_rotation_angle`` (rad): the limit of the automatic rotation substeps of fast
     spinners; the sweeps measure each method itself (``math.inf``: none), a curve
-    that shows the engine's default sets None."""
+    that shows the engine's default sets None. ``articulation_integrator``: for a
+    jointed scene, its joints form an articulation in reduced coordinates stepped by
+    this method from ``ARTICULATION_INTEGRATORS``, ``substeps`` articulation substeps
+    per step and nothing automatic; None: the joints are XPBD projections."""
 
     label: str
     integrator: str = "strang"
@@ -33,6 +36,12 @@ class Method:
     substeps: int | None = None
     order: float | None = None
     max_rotation_angle: float | None = math.inf
+    articulation_integrator: str | None = None
+
+    @property
+    def joint_solver(self) -> str:
+        """``Scene.add_joint(solver=...)`` for this method's joints."""
+        return "xpbd" if self.articulation_integrator is None else "articulation"
 
 
 @dataclass(frozen=True)
@@ -105,10 +114,17 @@ class Problem(ABC):
         """Instances stepped together in a timed run."""
         return 1
 
+    def scene_for(self, method: Method, copies: int) -> Scene:
+        """The scene one method runs; jointed problems choose the joints' solver here."""
+        return self.scene(copies)
+
     def build(self, method: Method, point: Point, copies: int = 1) -> World:
-        world = self.scene(copies).build(
-            dt=point.dt, integrator=method.integrator, substeps=point.substeps, iterations=method.iterations,
-            max_rotation_angle=method.max_rotation_angle,
+        articulated = method.articulation_integrator is not None
+        world = self.scene_for(method, copies).build(
+            dt=point.dt, integrator=method.integrator, substeps=1 if articulated else point.substeps,
+            iterations=method.iterations, max_rotation_angle=method.max_rotation_angle,
+            articulation_integrator=method.articulation_integrator or "leapfrog",
+            articulation_substeps=point.substeps if articulated else None,
         )
         world.profiling = False
         return world

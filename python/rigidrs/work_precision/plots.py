@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import INTEGRATORS
+from .. import ARTICULATION_INTEGRATORS, INTEGRATORS
 from .runner import Result, Run
 from .table import usable
 
@@ -34,16 +34,21 @@ def finite(runs: Sequence[Run]) -> list[Run]:
 
 def styles(result: Result) -> dict[str, dict[str, Any]]:
     """Line style per method: an integrator keeps its colour across problems (dashed
-    with more than one iteration); curves of one integrator take the colour cycle."""
+    with more than one iteration; an articulation integrator takes the colours after
+    the body integrators', square markers); curves of one integrator take the colour
+    cycle."""
     curves = result.curves()
-    by_integrator = len({runs[0].integrator for runs in curves.values()}) > 1
-    names = list(INTEGRATORS)
+    by_integrator = len({(runs[0].integrator, runs[0].articulation_integrator) for runs in curves.values()}) > 1
+    names, arts = list(INTEGRATORS), list(ARTICULATION_INTEGRATORS)
     out = {}
     for k, (label, runs) in enumerate(curves.items()):
         r = runs[0]
-        color = f"C{names.index(r.integrator)}" if by_integrator else f"C{k}"
+        art = r.articulation_integrator
+        index = len(names) + arts.index(art) if art else names.index(r.integrator)
+        color = f"C{index % 10}" if by_integrator else f"C{k}"
         dashed = by_integrator and r.iterations > 1
-        out[label] = {"color": color, "ls": "--" if dashed else "-", "marker": "o", "ms": 3, "lw": 1.2, "label": label}
+        out[label] = {"color": color, "ls": "--" if dashed else "-", "marker": "s" if art else "o", "ms": 3, "lw": 1.2,
+                      "label": label}
     return out
 
 

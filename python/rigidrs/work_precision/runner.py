@@ -29,6 +29,8 @@ class Run:
     # (max − min) / median of the timed repeats.
     cost_spread: float
     metrics: dict[str, float] = field(default_factory=dict)
+    # The joints' articulation integrator (None: no articulation, or XPBD joints).
+    articulation_integrator: str | None = None
 
     @property
     def h(self) -> float:
@@ -90,7 +92,7 @@ def run_point(problem: Problem, method: Method, point: Point, cfg: Config) -> Ru
     error = metrics.pop("error")
     return Run(method.label, method.integrator, method.iterations, method.order, point.steps, point.dt,
                point.substeps, error if math.isfinite(error) else math.inf, median / simulated,
-               (max(times) - min(times)) / median if median > 0 else 0.0, metrics)
+               (max(times) - min(times)) / median if median > 0 else 0.0, metrics, method.articulation_integrator)
 
 
 def run_problem(problem: Problem, cfg: Config, tick: Callable[[str], None]) -> Result:

@@ -61,7 +61,7 @@ impl<'a> From<&'a BallContact> for Contacts<'a> {
 /// The manifold index standing for a pair's [`BallContact`].
 pub const BALL: u32 = u32::MAX;
 
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct PairState {
     /// The collider pair, smaller index first.
     pub key: (u32, u32),
@@ -96,7 +96,7 @@ impl PairState {
 /// The persistent pairs, sorted by key (the broad phase's candidates come sorted,
 /// so a step's pairs are matched to the last step's by a merge, without hashing),
 /// and the ones with contact points this step, as indices into `pairs`.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct NarrowPhase {
     pub pairs: Vec<PairState>,
     pub touching: Vec<u32>,

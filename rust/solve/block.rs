@@ -161,7 +161,7 @@ impl Constraint {
 }
 
 /// Scratch space of one block solve (taken out of `Support` while it runs).
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct Scratch {
     pub r: Vec<f64>,
     pub lambda: Vec<f64>,

@@ -134,7 +134,7 @@ pub struct Constraint {
 }
 
 /// The contact solver's state for one step.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct ContactSolver {
     pub constraints: Vec<Constraint>,
     /// The friction patch of each constraint (same index).

@@ -11,6 +11,7 @@ pub mod pipeline;
 pub mod profile;
 pub mod scene;
 pub mod settings;
+pub mod snapshot;
 pub mod step;
 pub mod validate;
 #[allow(clippy::module_inception)]

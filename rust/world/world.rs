@@ -12,6 +12,7 @@ use crate::integrate::{BodyLists, Integrator, Rotation};
 use crate::math::Vec3;
 use nalgebra::Isometry3;
 
+#[derive(Clone)]
 pub struct World {
     /// Body state (views of these arrays are what Python sees).
     pub bodies: Bodies,

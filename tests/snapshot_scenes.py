@@ -92,6 +92,23 @@ def sleeping() -> rr.World:
     return scene.build(dt=1 / 60, sleep_time=0.2)
 
 
+def meshes() -> rr.World:
+    """Compounds and hulls tumbling onto a fixed triangle mesh: parry's per-pair
+    workspaces and sub-shape manifolds."""
+    scene = rr.Scene(gravity=(0, 0, -G))
+    xs = np.linspace(-2, 2, 9)
+    vertices = [(x, y, 0.05 * np.sin(3 * x + y)) for y in xs for x in xs]
+    triangles = [t for j in range(8) for i in range(8) for t in (
+        (j * 9 + i, j * 9 + i + 1, (j + 1) * 9 + i + 1), (j * 9 + i, (j + 1) * 9 + i + 1, (j + 1) * 9 + i))]
+    scene.add_body(rr.TriMesh(vertices, triangles), fixed=True)
+    dumbbell = [(rr.Sphere(0.1), (0, 0, 0.2)), (rr.Box((0.1, 0.1, 0.1)), (0, 0, -0.2))]
+    rng = np.random.default_rng(5)
+    for k in range(8):
+        shape = rr.Compound(dumbbell) if k % 2 else rr.ConvexHull(rng.normal(size=(12, 3)) * 0.15)
+        scene.add_body(shape, density=500.0, position=(0.4 * k - 1.4, 0, 0.4 + 0.1 * k), angular_velocity=(1, 2, 0))
+    return scene.build(dt=1 / 60)
+
+
 SCENES: dict[str, Callable[[], rr.World]] = {
     "pile": pile,
     "pyramid": pyramid,
@@ -100,6 +117,7 @@ SCENES: dict[str, Callable[[], rr.World]] = {
     "cloth": cloth,
     "shape_matching": shape_matching,
     "sleeping": sleeping,
+    "meshes": meshes,
 }
 
 

@@ -35,6 +35,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<drive::PyDrive>()?;
     m.add_class::<joint_views::PyJoints>()?;
     m.add_class::<snapshot::PySnapshot>()?;
+    m.add_function(wrap_pyfunction!(snapshot::load, m)?)?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;

@@ -12,7 +12,7 @@ use crate::integrate::{BodyLists, Integrator, Rotation};
 use crate::math::Vec3;
 use nalgebra::Isometry3;
 
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct World {
     /// Body state (views of these arrays are what Python sees).
     pub bodies: Bodies,
@@ -64,6 +64,8 @@ pub struct World {
     /// Whether the derived arrays (rotation, angular momentum, world inertia) are
     /// kept fresh after each `step` call; set once a user reads one of them.
     pub keep_derived: bool,
+    /// Stage timings: not state; a world read from bytes starts a new window.
+    #[serde(skip)]
     pub profile: Profile,
 }
 

@@ -17,9 +17,10 @@ def ground() -> rr.Scene:
     return scene
 
 
-def pile() -> rr.World:
+def pile(rocket: bool = False) -> rr.World:
     """60 boxes and spheres in four jittered layers dropped on the ground: a pile
-    with contacts of every age by step 60."""
+    with contacts of every age by step 60; with ``rocket``, body 61 far above
+    it, a ball no contact reaches."""
     scene = ground()
     rng = np.random.default_rng(3)
     for k in range(60):
@@ -28,6 +29,8 @@ def pile() -> rr.World:
         shape = rr.Box((0.13, 0.1, 0.12)) if k % 2 else rr.Sphere(0.12)
         q = rng.normal(size=4)
         scene.add_body(shape, density=500.0, position=(x, y, 0.2 + 0.3 * layer), orientation=q / np.linalg.norm(q))
+    if rocket:
+        scene.add_body(rr.Sphere(0.1), mass=1.0, position=(5, 5, 100))
     return scene.build(dt=1 / 120)
 
 

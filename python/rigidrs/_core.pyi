@@ -28,6 +28,7 @@ __all__ = [
     "Scene",
     "Shape",
     "ShapeError",
+    "SimulationError",
     "Snapshot",
     "Sphere",
     "StateError",
@@ -54,6 +55,13 @@ class ShapeError(RigidError):
 
 class StateError(RigidError):
     """A world's state, written through a view, is invalid at the next step."""
+
+class SimulationError(StateError, RuntimeError):
+    """A step diverged (a body or particle position, velocity or orientation not finite
+    after it) or failed inside (an internal error). The message names the body or
+    particle, the stage and the time; the world is as it was before that step (time
+    included) and can step on. A ``StateError`` (what a blow-up raised before) and a
+    ``RuntimeError``."""
 
 @disjoint_base
 class Shape:
@@ -653,7 +661,11 @@ class World:
 
     def step(self, n: int = 1) -> None:
         """Advances ``n`` steps (GIL released). Raises ``StateError`` naming the body if a
-        view was given an invalid state; then nothing moves."""
+        view was given an invalid state; then nothing moves. A step after which a body or
+        particle is not finite, or that fails inside, is undone: ``SimulationError`` naming
+        the body or particle, the stage and the time, the world as before that step. Ctrl-C
+        (checked every 20 ms) stops at a step boundary with ``KeyboardInterrupt``; the steps
+        before it are kept."""
     @property
     def bodies(self) -> Bodies: ...
     @property

@@ -396,8 +396,8 @@ impl PyParticles {
 
 #[pymethods]
 impl PyParticles {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.world.bind(py).borrow().inner.particles().map_or(0, |p| p.len())
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        Ok(self.world.bind(py).try_borrow()?.inner.particles().map_or(0, |p| p.len()))
     }
 
     /// (M, 3) positions, world (m); writable.

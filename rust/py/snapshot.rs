@@ -108,6 +108,7 @@ impl PyWorld {
     /// the restored values. `snap` must have this world's numbers of bodies,
     /// particles and joints, else `RigidError` and nothing changes.
     fn restore(&mut self, snap: &PySnapshot) -> PyResult<()> {
+        self.guard.invalidate();
         self.inner.restore(&snap.world).py_err()
     }
 

@@ -95,14 +95,14 @@ impl PyBodies {
 
 #[pymethods]
 impl PyBodies {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.world.bind(py).borrow().inner.bodies.len()
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        Ok(self.world.bind(py).try_borrow()?.inner.bodies.len())
     }
 
     /// The bodies' names (`add_body(name=...)`; "" where none was given).
     #[getter]
-    fn names(&self, py: Python<'_>) -> Vec<String> {
-        self.world.bind(py).borrow().inner.body_names.clone()
+    fn names(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        Ok(self.world.bind(py).try_borrow()?.inner.body_names.clone())
     }
 
     /// (N,) whether each body is asleep; read-only.

@@ -6,6 +6,7 @@ pub mod checksum;
 pub mod collision;
 pub mod diagnostics;
 pub mod framing;
+pub mod guard;
 pub mod joints;
 pub mod link_contacts;
 pub mod particles;

@@ -67,6 +67,9 @@ pub struct World {
     /// Stage timings: not state; a world read from bytes starts a new window.
     #[serde(skip)]
     pub profile: Profile,
+    /// Set only while a failed step is run again to find its stage (`guard`).
+    #[serde(skip)]
+    pub(crate) watch: Option<super::guard::Watch>,
 }
 
 impl World {
@@ -151,6 +154,7 @@ impl World {
             fast_weights,
             steps: 0,
             keep_derived: false,
+            watch: None,
             profile: Profile::default(),
         };
         world.replan(true);

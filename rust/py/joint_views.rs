@@ -33,6 +33,9 @@ impl PyJoints {
                 Field::Target => (&inner.joint_target, true),
                 Field::Force => (&inner.joint_force, false),
             };
+            if writable {
+                g.guard.expose(crate::world::guard::exposed::TARGET);
+            }
             (v.as_ptr(), v.len(), writable)
         };
         // Safety: a Vec of the world allocated at build and never reallocated;

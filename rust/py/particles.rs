@@ -364,6 +364,12 @@ impl PyParticles {
         let w = self.world.bind(py);
         let located = {
             let g = w.try_borrow()?;
+            use crate::world::guard::exposed::{PARTICLE_POSITION, PARTICLE_VELOCITY};
+            g.guard.expose(match field {
+                Field::Position => PARTICLE_POSITION,
+                Field::Velocity => PARTICLE_VELOCITY,
+                _ => 0,
+            });
             g.inner.particles().map(|p| {
                 fn ptr<T>(v: &[T]) -> *const f64 {
                     v.as_ptr() as *const f64

@@ -12,7 +12,7 @@ use super::joints;
 use super::errors::{IntoPy, RigidError};
 use super::views::PyBodies;
 use crate::collide::narrow_phase::ContactReport;
-use crate::world::guard::Guard;
+use crate::world::guard::{exposed, Guard};
 use crate::world::World;
 
 #[pyclass(name = "World", module = "rigidrs._core")]
@@ -196,6 +196,7 @@ impl PyWorld {
         let body = non_negative_int(body, "body")? as usize;
         let f = vec3(force, "force")?;
         let p = point.map(|p| vec3(p, "point")).transpose()?;
+        self.guard.expose(exposed::FORCE | exposed::TORQUE);
         self.inner.apply_force(body, f, p).py_err()
     }
 
@@ -203,6 +204,7 @@ impl PyWorld {
     fn apply_torque(&mut self, body: i64, torque: &Bound<'_, PyAny>) -> PyResult<()> {
         let body = non_negative_int(body, "body")? as usize;
         let t = vec3(torque, "torque")?;
+        self.guard.expose(exposed::TORQUE);
         self.inner.apply_torque(body, t).py_err()
     }
 
@@ -248,6 +250,7 @@ impl PyWorld {
 
     /// Sets every applied force and torque to zero.
     fn clear_forces(&mut self) {
+        self.guard.expose(exposed::FORCE | exposed::TORQUE);
         self.inner.clear_forces();
     }
 

@@ -11,18 +11,21 @@
 //! that the checkpoint plus a replay of the log is the state before any step.
 //! Stepping is deterministic, so the replay is bitwise. Cost per call: one
 //! bitwise compare and copy of the view-writable arrays; per step: one pass of
-//! sums over positions and velocities; per checkpoint (every 256 steps, 64
-//! logged calls or 32 MB of log, or after a change the log cannot hold): one
+//! sums over positions and velocities; per checkpoint (every 1024 steps, 256
+//! logged calls or 64 MB of log, or after a change the log cannot hold): one
 //! clone of the world.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicU16, Ordering};
 
 use super::{validate, World};
 use crate::error::{Error, Result};
 
-const CHECKPOINT_STEPS: u64 = 256;
-const CHECKPOINT_CALLS: usize = 64;
-const CHECKPOINT_LOG_BYTES: usize = 32 << 20;
+/// A checkpoint costs one clone of the world (up to most of a step's time
+/// for a contact scene), a failure a replay of up to this many steps.
+const CHECKPOINT_STEPS: u64 = 1024;
+const CHECKPOINT_CALLS: usize = 256;
+const CHECKPOINT_LOG_BYTES: usize = 64 << 20;
 
 /// What the watched re-run of a failed step saw: the stage running, and the
 /// first stage after which the state was not finite, with what was not.
@@ -32,9 +35,42 @@ pub struct Watch {
     pub first_bad: Option<(&'static str, String)>,
 }
 
-/// The arrays a user can write through views, as they were.
+/// The arrays a user can write through views, one bit each. Only those the
+/// user has been given a writable view of (or changed through a method) are
+/// compared and logged: the others change only by stepping.
+pub mod exposed {
+    pub const POSITION: u16 = 1;
+    pub const ORIENTATION: u16 = 2;
+    pub const LINEAR_VELOCITY: u16 = 4;
+    pub const ANGULAR_VELOCITY: u16 = 8;
+    pub const FORCE: u16 = 16;
+    pub const TORQUE: u16 = 32;
+    pub const PARTICLE_POSITION: u16 = 64;
+    pub const PARTICLE_VELOCITY: u16 = 128;
+    pub const TARGET: u16 = 256;
+}
+
+/// The memory of a slice of `f64` or of arrays of them.
+trait Floats: Copy {}
+impl Floats for f64 {}
+impl<const N: usize> Floats for [f64; N] {}
+
+/// Bitwise equality (`==` on floats would take -0.0 for 0.0 and never NaN for
+/// NaN), as one memory compare.
+fn same<T: Floats>(a: &[T], b: &[T]) -> bool {
+    fn bytes<T: Floats>(v: &[T]) -> &[u8] {
+        // Safety: `T` is f64 or an array of f64: no padding, every byte
+        // initialised; the slice covers exactly the memory of `v`, borrowed
+        // for as long.
+        unsafe { std::slice::from_raw_parts(v.as_ptr() as *const u8, std::mem::size_of_val(v)) }
+    }
+    bytes(a) == bytes(b)
+}
+
+/// The view-writable arrays named by `mask`, as they were (the others empty).
 #[derive(Clone, Debug, Default)]
 struct Inputs {
+    mask: u16,
     position: Vec<[f64; 3]>,
     orientation: Vec<[f64; 4]>,
     linear_velocity: Vec<[f64; 3]>,
@@ -46,60 +82,72 @@ struct Inputs {
     target: Vec<f64>,
 }
 
-/// Bitwise equality (`==` on floats would take -0.0 for 0.0 and never NaN for NaN).
-fn same<const N: usize>(a: &[[f64; N]], b: &[[f64; N]]) -> bool {
-    a.len() == b.len() && a.iter().flatten().zip(b.iter().flatten()).all(|(x, y)| x.to_bits() == y.to_bits())
+/// `f(mask, bit, array of w, field of inputs)` for each view-writable array,
+/// and-ed (every call is made).
+macro_rules! each_input {
+    ($f:ident, $mask:expr, $w:expr, $i:expr) => {{
+        use exposed::*;
+        let (mut no_position, mut no_velocity) = (Vec::new(), Vec::new());
+        let (b, t) = (&mut $w.bodies, &mut $w.joint_target);
+        let (pp, pv) = match $w.xpbd.as_mut() {
+            Some(x) => (&mut x.particles.position, &mut x.particles.velocity),
+            None => (&mut no_position, &mut no_velocity),
+        };
+        let m = $mask;
+        $f(m, POSITION, &mut b.position, &mut $i.position)
+            & $f(m, ORIENTATION, &mut b.orientation, &mut $i.orientation)
+            & $f(m, LINEAR_VELOCITY, &mut b.linear_velocity, &mut $i.linear_velocity)
+            & $f(m, ANGULAR_VELOCITY, &mut b.angular_velocity, &mut $i.angular_velocity)
+            & $f(m, FORCE, &mut b.force, &mut $i.force)
+            & $f(m, TORQUE, &mut b.torque, &mut $i.torque)
+            & $f(m, PARTICLE_POSITION, pp, &mut $i.particle_position)
+            & $f(m, PARTICLE_VELOCITY, pv, &mut $i.particle_velocity)
+            & $f(m, TARGET, t, &mut $i.target)
+    }};
+}
+
+fn copy_in<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>) -> bool {
+    if mask & bit != 0 {
+        kept.clone_from(world);
+    } else {
+        kept.clear();
+    }
+    true
+}
+
+fn equal<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>) -> bool {
+    mask & bit == 0 || same(world, kept)
+}
+
+fn put_back<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>) -> bool {
+    if mask & bit != 0 {
+        world.copy_from_slice(kept);
+    }
+    true
 }
 
 impl Inputs {
-    fn read_into(&mut self, w: &World) {
-        let b = &w.bodies;
-        self.position.clone_from(&b.position);
-        self.orientation.clone_from(&b.orientation);
-        self.linear_velocity.clone_from(&b.linear_velocity);
-        self.angular_velocity.clone_from(&b.angular_velocity);
-        self.force.clone_from(&b.force);
-        self.torque.clone_from(&b.torque);
-        let p = w.particles();
-        self.particle_position.clone_from(p.map_or(&Vec::new(), |p| &p.position));
-        self.particle_velocity.clone_from(p.map_or(&Vec::new(), |p| &p.velocity));
-        self.target.clone_from(&w.joint_target);
+    /// Copies the arrays of `mask` from `w`.
+    fn read(&mut self, w: &mut World, mask: u16) {
+        self.mask = mask;
+        let _ = each_input!(copy_in, mask, w, self);
     }
 
-    fn same_as(&self, w: &World) -> bool {
-        let b = &w.bodies;
-        let none = Vec::new();
-        let p = w.particles();
-        same(&self.position, &b.position)
-            && same(&self.orientation, &b.orientation)
-            && same(&self.linear_velocity, &b.linear_velocity)
-            && same(&self.angular_velocity, &b.angular_velocity)
-            && same(&self.force, &b.force)
-            && same(&self.torque, &b.torque)
-            && same(&self.particle_position, p.map_or(&none, |p| &p.position))
-            && same(&self.particle_velocity, p.map_or(&none, |p| &p.velocity))
-            && self.target.len() == w.joint_target.len()
-            && self.target.iter().zip(&w.joint_target).all(|(x, y)| x.to_bits() == y.to_bits())
+    /// Whether `w`'s arrays of `mask` are bitwise these.
+    fn same_as(&mut self, w: &mut World, mask: u16) -> bool {
+        self.mask == mask && each_input!(equal, mask, w, self)
     }
 
     /// Writes these values back (into the same memory: views stay valid).
-    fn write(&self, w: &mut World) {
-        let b = &mut w.bodies;
-        b.position.copy_from_slice(&self.position);
-        b.orientation.copy_from_slice(&self.orientation);
-        b.linear_velocity.copy_from_slice(&self.linear_velocity);
-        b.angular_velocity.copy_from_slice(&self.angular_velocity);
-        b.force.copy_from_slice(&self.force);
-        b.torque.copy_from_slice(&self.torque);
-        if let Some(x) = w.xpbd.as_mut() {
-            x.particles.position.copy_from_slice(&self.particle_position);
-            x.particles.velocity.copy_from_slice(&self.particle_velocity);
-        }
-        w.joint_target.copy_from_slice(&self.target);
+    fn write(&mut self, w: &mut World) {
+        let _ = each_input!(put_back, self.mask, w, self);
     }
 
     fn bytes(&self) -> usize {
-        8 * (3 * (self.position.len() * 5 + self.particle_position.len() * 2) + 4 * self.orientation.len() + self.target.len())
+        8 * (3 * (self.position.len() + self.linear_velocity.len() + self.angular_velocity.len() + self.force.len())
+            + 3 * (self.torque.len() + self.particle_position.len() + self.particle_velocity.len())
+            + 4 * self.orientation.len()
+            + self.target.len())
     }
 }
 
@@ -123,6 +171,8 @@ pub struct Guard {
     /// world has been changed since in ways they do not show.
     last: Inputs,
     stale: bool,
+    /// The view-writable arrays the user may have written (`exposed` bits).
+    exposed: AtomicU16,
 }
 
 impl Guard {
@@ -130,6 +180,12 @@ impl Guard {
     /// the next call starts from a new checkpoint.
     pub fn invalidate(&mut self) {
         self.stale = true;
+    }
+
+    /// A writable view of the arrays of `bits` was handed out (or they were
+    /// changed through a method): from now on they are compared and logged.
+    pub fn expose(&self, bits: u16) {
+        self.exposed.fetch_or(bits, Ordering::Relaxed);
     }
 
     fn due(&self) -> bool {
@@ -145,14 +201,15 @@ impl Guard {
     }
 
     /// At the start of a call, before `prepare`.
-    fn begin(&mut self, w: &World) {
+    fn begin(&mut self, w: &mut World) {
         if self.stale || self.checkpoint.is_none() || self.due() {
             self.stale = false;
             return self.checkpoint(w, true);
         }
-        let inputs = (!self.last.same_as(w)).then(|| {
+        let mask = self.exposed.load(Ordering::Relaxed);
+        let inputs = (!self.last.same_as(w, mask)).then(|| {
             let mut i = Inputs::default();
-            i.read_into(w);
+            i.read(w, mask);
             self.log_bytes += i.bytes();
             i
         });
@@ -169,8 +226,8 @@ impl Guard {
         }
     }
 
-    fn end(&mut self, w: &World) {
-        self.last.read_into(w);
+    fn end(&mut self, w: &mut World) {
+        self.last.read(w, self.exposed.load(Ordering::Relaxed));
     }
 
     /// Puts `w` back to the checkpoint and replays the log: the state before
@@ -182,8 +239,8 @@ impl Guard {
             return false;
         }
         let replayed = catch_unwind(AssertUnwindSafe(|| {
-            for c in &self.calls {
-                if let Some(i) = &c.inputs {
+            for c in &mut self.calls {
+                if let Some(i) = &mut c.inputs {
                     i.write(w);
                 }
                 if c.prepare {
@@ -230,14 +287,41 @@ impl World {
         }
     }
 
-    /// The body or particle that is not finite, in words.
+    /// The body or particle that is not finite, in words, and how many more
+    /// are (a NaN spreads through contacts and constraints within a stage).
     fn culprit(&self) -> String {
-        let named = |e: Error| e.message;
-        validate::check(&self.bodies)
+        let b = &self.bodies;
+        let bad3 = |v: &[f64; 3]| !v.iter().all(|x| x.is_finite());
+        let bodies: Vec<usize> = (0..b.len())
+            .filter(|&i| {
+                bad3(&b.position[i]) || bad3(&b.linear_velocity[i]) || bad3(&b.angular_velocity[i])
+                    || !b.orientation[i].iter().all(|x| x.is_finite())
+            })
+            .collect();
+        let particles: Vec<usize> = self.particles().map_or(Vec::new(), |p| {
+            (0..p.len()).filter(|&i| bad3(&p.position[i]) || bad3(&p.velocity[i])).collect()
+        });
+        let first = validate::check(&self.bodies)
             .err()
-            .map(named)
-            .or_else(|| self.check_particles().err().map(named))
-            .unwrap_or_else(|| "no body or particle".into())
+            .or_else(|| self.check_particles().err())
+            .map_or_else(|| "no body or particle".to_string(), |e| e.message);
+        let list = |what: &str, v: &[usize]| {
+            let shown: Vec<String> = v.iter().take(8).map(|i| i.to_string()).collect();
+            let more = if v.len() > 8 { format!(" and {} more", v.len() - 8) } else { String::new() };
+            format!("{what} {}{more}", shown.join(", "))
+        };
+        let mut all = Vec::new();
+        if !bodies.is_empty() {
+            all.push(list("bodies", &bodies));
+        }
+        if !particles.is_empty() {
+            all.push(list("particles", &particles));
+        }
+        if bodies.len() + particles.len() > 1 {
+            format!("{first} (not finite: {})", all.join("; "))
+        } else {
+            first
+        }
     }
 
     /// Advances up to `n` steps as `step` does, calling `interrupted` between

@@ -104,6 +104,10 @@ impl World {
         if let Some(w) = self.watch.as_mut() {
             w.current = stage.name();
         }
+        #[cfg(test)]
+        if self.fail_at == Some(self.steps) && matches!(stage.kind, StageKind::NarrowPhase) {
+            panic!("injected failure");
+        }
         if self.profile.enabled {
             let t0 = Instant::now();
             self.run(stage, h, src);

@@ -70,6 +70,10 @@ pub struct World {
     /// Set only while a failed step is run again to find its stage (`guard`).
     #[serde(skip)]
     pub(crate) watch: Option<super::guard::Watch>,
+    /// Tests only: the step count at which a step panics (inside a stage).
+    #[cfg(test)]
+    #[serde(skip)]
+    pub(crate) fail_at: Option<u64>,
 }
 
 impl World {
@@ -155,6 +159,8 @@ impl World {
             steps: 0,
             keep_derived: false,
             watch: None,
+            #[cfg(test)]
+            fail_at: None,
             profile: Profile::default(),
         };
         world.replan(true);

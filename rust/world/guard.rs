@@ -115,11 +115,11 @@ fn copy_in<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>
     true
 }
 
-fn equal<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>) -> bool {
+fn equal<T: Floats>(mask: u16, bit: u16, world: &[T], kept: &[T]) -> bool {
     mask & bit == 0 || same(world, kept)
 }
 
-fn put_back<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>) -> bool {
+fn put_back<T: Floats>(mask: u16, bit: u16, world: &mut [T], kept: &[T]) -> bool {
     if mask & bit != 0 {
         world.copy_from_slice(kept);
     }

@@ -56,7 +56,8 @@ fn keep_view_memory(old: &mut World, new: &mut World) {
 }
 
 impl World {
-    /// Makes this world `snap` again, bit for bit. `snap` must have the same
+    /// Makes this world `snap` again, bit for bit (but for the stage timings,
+    /// which carry on). `snap` must have the same
     /// numbers of bodies, particles and joints (a snapshot of this world, or of
     /// one built from the same scene); otherwise nothing changes.
     pub fn restore(&mut self, snap: &World) -> Result<()> {
@@ -70,6 +71,10 @@ impl World {
         }
         let mut next = snap.clone();
         keep_view_memory(self, &mut next);
+        // Stage timings are this world's, not state: they carry on, and the
+        // restored plan's stages take their slots in them.
+        next.profile = std::mem::take(&mut self.profile);
+        next.plan.assign_slots(&mut next.profile);
         *self = next;
         Ok(())
     }

@@ -54,6 +54,11 @@ impl World {
     /// targets brought up to date.
     pub(crate) fn prepare(&mut self) {
         validate::normalize(&mut self.bodies);
+        #[cfg(test)]
+        if self.fail_at == Some(u64::MAX) {
+            self.fail_at = None; // once: the replay that undoes it prepares too
+            panic!("injected failure in prepare");
+        }
         self.wake_on_user_input();
         self.replan(false);
         self.sync_targets();

@@ -12,6 +12,8 @@ pub enum ErrorKind {
     Shape,
     /// The state of a world (written through a view) is invalid at the next step.
     State,
+    /// A step diverged or failed inside; the world was put back as before it.
+    Simulation,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -31,6 +33,9 @@ impl Error {
     }
     pub fn state(message: impl Into<String>) -> Self {
         Self { kind: ErrorKind::State, message: message.into() }
+    }
+    pub fn simulation(message: impl Into<String>) -> Self {
+        Self { kind: ErrorKind::Simulation, message: message.into() }
     }
     /// Prefixes the message with where it happened, e.g. "body 3: ".
     pub fn context(mut self, prefix: impl fmt::Display) -> Self {

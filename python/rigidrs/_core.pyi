@@ -1,4 +1,5 @@
 """Typed interface of the compiled core. SI units; quaternions (x, y, z, w)."""
+from os import PathLike
 from typing import Any, Sequence, TypeAlias, final
 
 import numpy as np
@@ -27,11 +28,14 @@ __all__ = [
     "Scene",
     "Shape",
     "ShapeError",
+    "SimulationError",
+    "Snapshot",
     "Sphere",
     "StateError",
     "TriMesh",
     "World",
     "__version__",
+    "load",
     "mass_properties",
     "polar_decomposition",
 ]
@@ -51,6 +55,13 @@ class ShapeError(RigidError):
 
 class StateError(RigidError):
     """A world's state, written through a view, is invalid at the next step."""
+
+class SimulationError(StateError, RuntimeError):
+    """A step diverged (a body or particle position, velocity or orientation not finite
+    after it) or failed inside (an internal error). The message names the body or
+    particle, the stage and the time; the world is as it was before that step (time
+    included) and can step on. A ``StateError`` (what a blow-up raised before) and a
+    ``RuntimeError``."""
 
 @disjoint_base
 class Shape:
@@ -216,6 +227,10 @@ class Scene:
     @property
     def gravity(self) -> tuple[float, float, float]: ...
     def __len__(self) -> int: ...
+    def __copy__(self) -> Scene:
+        """An independent copy; so are ``copy.deepcopy`` and ``pickle`` round trips."""
+    def __deepcopy__(self, memo: Any) -> Scene: ...
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
     def add_body(
         self,
         shape: Shape | None = None,
@@ -650,7 +665,11 @@ class World:
 
     def step(self, n: int = 1) -> None:
         """Advances ``n`` steps (GIL released). Raises ``StateError`` naming the body if a
-        view was given an invalid state; then nothing moves."""
+        view was given an invalid state; then nothing moves. A step after which a body or
+        particle is not finite, or that fails inside, is undone: ``SimulationError`` naming
+        the body or particle, the stage and the time, the world as before that step. Ctrl-C
+        (checked every 20 ms) stops at a step boundary with ``KeyboardInterrupt``; the steps
+        before it are kept."""
     @property
     def bodies(self) -> Bodies: ...
     @property
@@ -725,3 +744,47 @@ class World:
     def clusters(self) -> dict[str, Any]:
         """Shape-matching clusters at the last substep (K of them): ``center`` (K, 3) (m),
         ``rotation`` (K, 3, 3), ``plastic`` (K, 3, 3) the plastic deformation Sp."""
+    def snapshot(self) -> Snapshot:
+        """A copy of everything a step reads: state, applied forces, time, contact manifolds
+        and warm starts, friction patches, sleep timers and islands, joint and particle
+        multipliers, articulation state, plastic rest shapes. ``restore`` makes stepping on
+        from it bitwise what would have followed."""
+    def restore(self, snap: Snapshot) -> None:
+        """Makes this world ``snap`` again. Views taken before stay valid and show the
+        restored values. ``snap`` must have this world's numbers of bodies, particles and
+        joints (a snapshot of it, or of a world built from the same scene); otherwise
+        ``RigidError`` and nothing changes."""
+    def save(self, path: str | PathLike[str]) -> None:
+        """Writes the world's snapshot to the file ``path`` (to a temporary name beside it,
+        then renamed over it, so a crash never leaves half a file); ``load(path)`` reads
+        it back. Raises ``OSError`` (naming the path) when the file cannot be written."""
+    def __copy__(self) -> World:
+        """An independent world in the same state; so is ``copy.deepcopy``."""
+    def __deepcopy__(self, memo: Any) -> World: ...
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]:
+        """Pickles as its snapshot bytes."""
+
+@final
+class Snapshot:
+    """Everything a step of a world reads, frozen (``World.snapshot``). Pickles as its bytes."""
+
+    @property
+    def time(self) -> float:
+        """Simulated time at the snapshot (s)."""
+    @property
+    def steps(self) -> int:
+        """Steps taken at the snapshot."""
+    def to_bytes(self) -> bytes:
+        """The snapshot as bytes: a header (``RIGIDRS\\0``, kind, format version, engine
+        version, length, CRC-32), then the state."""
+    @staticmethod
+    def from_bytes(data: bytes) -> Snapshot:
+        """The snapshot in ``data``. Data that is foreign, truncated, corrupted, or written
+        by another rigidrs version raises ``RigidError`` (a ``ValueError``) saying which."""
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+
+def load(path: str | PathLike[str]) -> World:
+    """The world saved by ``World.save`` in the file ``path``. A missing file raises
+    ``FileNotFoundError``; a file that is not a snapshot of this rigidrs version, or is
+    truncated or corrupted, ``RigidError`` (a ``ValueError``) naming the path and what
+    is wrong."""

@@ -11,7 +11,7 @@ use super::model::{Articulation, Link, Parent};
 use crate::math::{quat, Quat, Vec3};
 
 /// A joint as the builder sees it (frames from the bodies' build poses).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct JointInput {
     pub model: JointModel,
     pub body_a: u32,
@@ -31,7 +31,7 @@ pub struct JointInput {
 }
 
 /// A body as the builder sees it.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BodyInput {
     /// Dynamic (a node); otherwise part of the ground (fixed) or unusable
     /// (kinematic: a joint to it stays XPBD).
@@ -46,7 +46,7 @@ pub struct BodyInput {
 }
 
 /// A connected set of dynamic bodies and the joints among them and to the ground.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Component {
     pub bodies: Vec<u32>,
     pub joints: Vec<usize>,

@@ -18,13 +18,13 @@ use crate::math::{quat, Quat, Vec3};
 /// Below this joint speed (rad/s or m/s) friction acts as a damper.
 pub const FRICTION_SPEED: f64 = 1e-4;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum DriveMode {
     Position,
     Velocity,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Drive {
     pub mode: DriveMode,
     /// Hinge: angle (rad) or rate (rad/s); prismatic: slide (m) or rate (m/s);
@@ -40,7 +40,7 @@ pub struct Drive {
 }
 
 /// What acts on one joint besides the articulation's dynamics.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Control {
     pub drive: Option<Drive>,
     /// Viscous damping (N·m·s/rad or N·s/m).
@@ -64,7 +64,7 @@ impl Control {
 }
 
 /// One linearized term on `n` consecutive dofs from `at`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Term {
     pub at: usize,
     pub n: usize,

@@ -18,7 +18,7 @@ pub struct Env<'a> {
 }
 
 /// Reusable buffers.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Scratch {
     pub tau: Vec<f64>,
     pub extra: Vec<f64>,
@@ -28,7 +28,7 @@ pub struct Scratch {
 /// How the controls enter a solve: over a kick of length `tau` followed by a
 /// drift `h` (both 0: explicitly), their right-hand side times `weight` (the
 /// control kick over the solve's own kick); `None`: no controls at all.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Kick {
     pub tau: f64,
     pub h: f64,

@@ -16,7 +16,7 @@
 use super::spatial::{join, rotation_about, translation_along, Vec6};
 use crate::math::{quat, Mat3, Quat, Vec3};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum JointModel {
     Revolute,
     Prismatic,
@@ -46,7 +46,7 @@ impl JointModel {
 }
 
 /// A pose: centre of mass (world, m) and principal-frame orientation.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Pose {
     pub x: Vec3,
     pub q: Quat,
@@ -63,7 +63,7 @@ impl Pose {
 }
 
 /// Where a joint sits on its parent and its child, from the build poses.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Frames {
     /// Anchor in the parent's frame (m; the world frame for the world).
     pub anchor_parent: Vec3,

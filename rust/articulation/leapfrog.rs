@@ -36,7 +36,7 @@ const PASSES: usize = 2;
 const TOLERANCE: f64 = 1e-13;
 
 /// Work arrays that outlive a substep.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Buffers {
     pub qdd: Vec<f64>,
     pub vh: Vec<f64>,

@@ -15,7 +15,7 @@ use crate::math::{Quat, Vec3};
 const PASSES: usize = 8;
 
 /// One active limit: `Σ coef[i] v[at + i] ≥ bound_rate`.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Row {
     pub at: usize,
     pub n: usize,

@@ -39,7 +39,7 @@ use crate::math::Vec3;
 use dynamics::{Env, Scratch};
 
 /// How articulations are integrated in time.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum ArticulationIntegrator {
     /// Reversible leapfrog, second order; the default.
     Leapfrog,
@@ -90,7 +90,7 @@ impl ArticulationIntegrator {
 pub const KAPPA: f64 = 0.25;
 
 /// Build options of articulations.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ArticulationSettings {
     /// Whether tree-shaped joint systems become articulations. Default true;
     /// false keeps every joint XPBD.
@@ -107,7 +107,7 @@ impl Default for ArticulationSettings {
 }
 
 /// Every articulation of a world.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Articulations {
     pub list: Vec<Articulation>,
     pub settings: ArticulationSettings,

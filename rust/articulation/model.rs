@@ -7,7 +7,7 @@ use super::joint::{Frames, JointModel, Pose};
 use super::spatial::{Mat6, Vec6};
 
 /// What a link hangs from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Parent {
     /// The world frame.
     World,
@@ -17,7 +17,7 @@ pub enum Parent {
     Link(usize),
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Link {
     /// Row in the world's bodies.
     pub body: u32,
@@ -40,7 +40,7 @@ pub struct Link {
 }
 
 /// Per-link results of the recursions (world frame, about the origin).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct LinkWork {
     pub pose: Pose,
     /// Motion subspace columns (the first `nv`).
@@ -84,7 +84,7 @@ impl Default for LinkWork {
     }
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Articulation {
     pub links: Vec<Link>,
     pub nq: usize,

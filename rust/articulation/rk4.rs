@@ -10,7 +10,7 @@ use super::dynamics::{accelerations, record, Env, Kick, Scratch};
 use super::model::Articulation;
 use super::{joint, limits};
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Buffers {
     k_delta: [Vec<f64>; 4],
     k_v: [Vec<f64>; 4],

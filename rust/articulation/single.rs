@@ -12,7 +12,7 @@ use crate::body::Bodies;
 use crate::math::{quat, Mat3, Vec3};
 
 /// What is constant about a single hinge or slide on the ground.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Single {
     pub slide: bool,
     /// World axis, the anchor (a point of the axis), the inertia about the axis

@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// Mass properties in some source frame (a shape's or a sample set's).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MassProps {
     /// Mass (kg).
     pub mass: f64,
@@ -17,7 +17,7 @@ pub struct MassProps {
 
 /// Principal form of an inertia tensor: `I = A diag(moments) Aᵀ` with `A` the
 /// rotation of `frame`; its columns are the principal axes in the source frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Principal {
     /// Principal moments (kg·m²).
     pub moments: [f64; 3],

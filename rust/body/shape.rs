@@ -16,7 +16,7 @@ use crate::error::{finite3, positive, Error, Result};
 use crate::math::{Mat3, Vec3};
 
 /// The geometry, as the user described it (kept for reporting and rebuilding).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub enum ShapeKind {
     /// A ball of radius `radius` (m).
     Sphere { radius: f64 },
@@ -40,7 +40,7 @@ pub enum ShapeKind {
 
 /// A validated shape: its description, parry's collision shape and the pose of
 /// parry's shape in the local frame of ours.
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Shape {
     pub kind: ShapeKind,
     pub parry: SharedShape,

@@ -4,7 +4,7 @@
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// How a body moves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum BodyKind {
     /// Moved by forces, torques and contacts.
     Dynamic,
@@ -16,7 +16,7 @@ pub enum BodyKind {
 }
 
 /// Per-body arrays. Index `i` of every field is body `i`.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Bodies {
     /// Centre of mass, world frame (m).
     pub position: Vec<[f64; 3]>,
@@ -51,7 +51,7 @@ pub struct Bodies {
 }
 
 /// The initial state and mass of one body, in its principal frame.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BodyInit {
     pub kind: BodyKind,
     pub position: Vec3,

@@ -5,7 +5,7 @@
 //! each finite box.
 
 /// An axis-aligned box (m).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Aabb {
     pub min: [f64; 3],
     pub max: [f64; 3],
@@ -67,7 +67,7 @@ impl Aabb {
 }
 
 /// A half-space `n·x ≤ offset` (world).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct HalfSpace {
     pub normal: [f64; 3],
     pub offset: f64,
@@ -81,7 +81,7 @@ impl HalfSpace {
     }
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct SweepAndPrune {
     axis: usize,
     order: Vec<u32>,

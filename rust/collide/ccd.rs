@@ -16,7 +16,7 @@ use crate::body::Bodies;
 use crate::math::{quat, so3, Quat, Vec3};
 
 /// A body's pose before its drift.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Start {
     pub position: Vec3,
     pub orientation: Quat,

@@ -10,7 +10,7 @@ use crate::math::quat;
 
 /// Collision filter: a pair may touch iff `a.group & b.mask != 0` and
 /// `b.group & a.mask != 0`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Filter {
     /// Bits this collider belongs to. Default 1.
     pub group: u32,
@@ -30,7 +30,7 @@ impl Filter {
     }
 }
 
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Collider {
     pub body: u32,
     pub shape: SharedShape,

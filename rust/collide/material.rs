@@ -7,7 +7,7 @@
 
 use crate::error::{non_negative, Error, Result};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Material {
     /// Dynamic (sliding) friction coefficient μk (–). Default 0.5.
     pub friction: f64,
@@ -42,7 +42,7 @@ impl Material {
 }
 
 /// The material of a contact between `a` and `b`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactMaterial {
     pub friction: f64,
     pub static_friction: f64,

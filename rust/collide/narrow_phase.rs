@@ -11,7 +11,7 @@ use crate::body::Bodies;
 use crate::math::Vec3;
 
 /// What a contact point carries from one step to the next (world frame).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactData {
     /// Normal impulse of the last substep (N·s), to warm-start the next.
     pub normal_impulse: f64,
@@ -28,7 +28,7 @@ pub type Tracked = TrackedContact<ContactData>;
 
 /// The one point where two balls meet, kept in the pair itself: as parry's
 /// ball–ball manifold, without its two heap indirections per pair.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BallContact {
     /// Normal from ball 1 to ball 2 in ball 1's frame.
     pub local_n1: Vector3<f64>,
@@ -61,7 +61,7 @@ impl<'a> From<&'a BallContact> for Contacts<'a> {
 /// The manifold index standing for a pair's [`BallContact`].
 pub const BALL: u32 = u32::MAX;
 
-#[derive(Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct PairState {
     /// The collider pair, smaller index first.
     pub key: (u32, u32),
@@ -96,7 +96,7 @@ impl PairState {
 /// The persistent pairs, sorted by key (the broad phase's candidates come sorted,
 /// so a step's pairs are matched to the last step's by a merge, without hashing),
 /// and the ones with contact points this step, as indices into `pairs`.
-#[derive(Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NarrowPhase {
     pub pairs: Vec<PairState>,
     pub touching: Vec<u32>,

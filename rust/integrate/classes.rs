@@ -8,7 +8,7 @@ use crate::body::{BodyKind, Bodies};
 /// term they leave out is below round-off of the state.
 const EQUAL_TOL: f64 = 1e-12;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum InertiaClass {
     Isotropic,
     Symmetric,
@@ -31,7 +31,7 @@ impl InertiaClass {
 /// For a symmetric body `a` is a transverse axis and one term remains (about the
 /// symmetry axis `axes[1]`); for an asymmetric one `a` is the intermediate axis,
 /// which makes the commutator of the two remaining terms smallest.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Aniso {
     pub index: u32,
     /// `[a, b, c]`: the axis of the |L|² term, then the axes of the other terms.
@@ -41,7 +41,7 @@ pub struct Aniso {
 }
 
 /// Index lists of the dynamic bodies, by class.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BodyLists {
     pub dynamic: Vec<u32>,
     pub isotropic: Vec<u32>,

@@ -6,7 +6,7 @@ use crate::math::Vec3;
 
 /// What the kick has to apply; decided per `step` call from the scene and the
 /// applied-force arrays, so a scene without forces never runs this stage.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct KickSources {
     /// Gravitational acceleration (m/s²).
     pub gravity: Vec3,

@@ -21,7 +21,7 @@ pub use classes::{Aniso, BodyLists, InertiaClass};
 use crate::error::{Error, Result};
 
 /// The integrators a world can be built with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Integrator {
     /// Textbook explicit Euler on (p, P, R, L); first order, gains energy.
     Euler,
@@ -43,7 +43,7 @@ pub enum Integrator {
 }
 
 /// How a drift rotates a body.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Rotation {
     /// Exact torque-free flow (closed form for isotropic and symmetric bodies,
     /// Strang splitting into principal-axis rotations for asymmetric ones).
@@ -55,14 +55,14 @@ pub enum Rotation {
 }
 
 /// Which velocity-level gyroscopic update a scheme uses before its first kick.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Gyroscopic {
     Explicit,
     Implicit,
 }
 
 /// A splitting scheme: `kicks.len() == drifts.len() + 1`, step fractions summing to 1.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Splitting {
     pub gyroscopic: Option<Gyroscopic>,
     pub kicks: Vec<f64>,

@@ -23,7 +23,7 @@ use super::{quat, Mat3, Quat, Vec3};
 use crate::error::{Error, Result};
 
 /// How to compute the rotation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum PolarMethod {
     /// Singular value decomposition (one-sided Jacobi) with the reflection moved
     /// to the smallest singular value. The reference: backward stable.
@@ -55,7 +55,7 @@ impl PolarMethod {
 }
 
 /// The two factors, `m = r * s`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Polar {
     /// Proper rotation (det +1).
     pub r: Mat3,

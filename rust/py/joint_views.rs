@@ -33,6 +33,9 @@ impl PyJoints {
                 Field::Target => (&inner.joint_target, true),
                 Field::Force => (&inner.joint_force, false),
             };
+            if writable {
+                g.guard.expose(crate::world::guard::exposed::TARGET);
+            }
             (v.as_ptr(), v.len(), writable)
         };
         // Safety: a Vec of the world allocated at build and never reallocated;
@@ -43,8 +46,8 @@ impl PyJoints {
 
 #[pymethods]
 impl PyJoints {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.world.bind(py).borrow().inner.joint_position.len()
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        Ok(self.world.bind(py).try_borrow()?.inner.joint_position.len())
     }
 
     /// (J,) hinge angle (rad) or prismatic slide (m) of body a relative to body b
@@ -78,7 +81,7 @@ impl PyJoints {
 
     /// The joints' names (`add_joint(name=...)`; "" where none was given).
     #[getter]
-    fn names(&self, py: Python<'_>) -> Vec<String> {
-        self.world.bind(py).borrow().inner.joint_names.clone()
+    fn names(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        Ok(self.world.bind(py).try_borrow()?.inner.joint_names.clone())
     }
 }

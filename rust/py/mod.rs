@@ -11,6 +11,7 @@ mod polar;
 mod particles;
 mod scene;
 mod shapes;
+mod snapshot;
 mod views;
 mod world;
 
@@ -33,6 +34,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<particles::PyParticles>()?;
     m.add_class::<drive::PyDrive>()?;
     m.add_class::<joint_views::PyJoints>()?;
+    m.add_class::<snapshot::PySnapshot>()?;
+    m.add_function(wrap_pyfunction!(snapshot::load, m)?)?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;

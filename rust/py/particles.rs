@@ -364,6 +364,12 @@ impl PyParticles {
         let w = self.world.bind(py);
         let located = {
             let g = w.try_borrow()?;
+            use crate::world::guard::exposed::{PARTICLE_POSITION, PARTICLE_VELOCITY};
+            g.guard.expose(match field {
+                Field::Position => PARTICLE_POSITION,
+                Field::Velocity => PARTICLE_VELOCITY,
+                _ => 0,
+            });
             g.inner.particles().map(|p| {
                 fn ptr<T>(v: &[T]) -> *const f64 {
                     v.as_ptr() as *const f64
@@ -396,8 +402,8 @@ impl PyParticles {
 
 #[pymethods]
 impl PyParticles {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.world.bind(py).borrow().inner.particles().map_or(0, |p| p.len())
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        Ok(self.world.bind(py).try_borrow()?.inner.particles().map_or(0, |p| p.len()))
     }
 
     /// (M, 3) positions, world (m); writable.

@@ -50,6 +50,21 @@ enum Field {
 }
 
 impl Field {
+    /// The guard's bit of a writable field (0 for read-only ones): a step
+    /// that fails is undone by a replay that needs what the user wrote.
+    fn exposed(self) -> u16 {
+        use crate::world::guard::exposed::*;
+        match self {
+            Field::Position => POSITION,
+            Field::Orientation => ORIENTATION,
+            Field::LinearVelocity => LINEAR_VELOCITY,
+            Field::AngularVelocity => ANGULAR_VELOCITY,
+            Field::Force => FORCE,
+            Field::Torque => TORQUE,
+            _ => 0,
+        }
+    }
+
     /// Pointer, shape of one row, writable, derived (refreshed on read).
     fn locate(self, b: &crate::body::Bodies) -> (*const f64, &'static [usize], bool, bool) {
         fn p<T>(v: &[T]) -> *const f64 {
@@ -84,6 +99,7 @@ impl PyBodies {
                 g.inner.bodies.update_derived();
             }
             let (ptr, row, writable, _) = field.locate(&g.inner.bodies);
+            g.guard.expose(field.exposed());
             (ptr, row, writable, g.inner.bodies.len())
         };
         let shape: Vec<usize> = std::iter::once(n).chain(row.iter().copied()).collect();
@@ -95,14 +111,14 @@ impl PyBodies {
 
 #[pymethods]
 impl PyBodies {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.world.bind(py).borrow().inner.bodies.len()
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        Ok(self.world.bind(py).try_borrow()?.inner.bodies.len())
     }
 
     /// The bodies' names (`add_body(name=...)`; "" where none was given).
     #[getter]
-    fn names(&self, py: Python<'_>) -> Vec<String> {
-        self.world.bind(py).borrow().inner.body_names.clone()
+    fn names(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        Ok(self.world.bind(py).try_borrow()?.inner.body_names.clone())
     }
 
     /// (N,) whether each body is asleep; read-only.

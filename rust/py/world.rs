@@ -1,6 +1,7 @@
 //! `World`: a compiled scene. `step` releases the GIL; state is seen through views.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::time::{Duration, Instant};
 
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
@@ -11,18 +12,25 @@ use super::joints;
 use super::errors::{IntoPy, RigidError};
 use super::views::PyBodies;
 use crate::collide::narrow_phase::ContactReport;
+use crate::world::guard::{exposed, Guard};
 use crate::world::World;
 
 #[pyclass(name = "World", module = "rigidrs._core")]
 pub struct PyWorld {
     pub inner: World,
+    /// What puts the world back when a step fails (see `world::guard`).
+    pub guard: Guard,
 }
 
 impl PyWorld {
     pub fn new(inner: World) -> Self {
-        Self { inner }
+        Self { inner, guard: Guard::default() }
     }
 }
+
+/// How often a long `step(n)` takes the GIL to run Python's signal handlers
+/// (Ctrl-C): a few microseconds each time, so every 20 ms costs nothing.
+const SIGNAL_CHECK: Duration = Duration::from_millis(20);
 
 fn vector<'py>(py: Python<'py>, v: crate::math::Vec3) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_slice(py, v.as_slice())
@@ -31,17 +39,33 @@ fn vector<'py>(py: Python<'py>, v: crate::math::Vec3) -> Bound<'py, PyArray1<f64
 #[pymethods]
 impl PyWorld {
     /// Advances `n` steps of `dt` with the GIL released. The state is checked
-    /// first; an invalid body (NaN, non-unit quaternion) raises `StateError` naming
-    /// it, and nothing moves.
+    /// first; an invalid body (NaN, non-unit quaternion) raises `StateError`
+    /// naming it, and nothing moves. A step that diverges or fails inside is
+    /// undone and raises `SimulationError`; Ctrl-C stops at a step boundary
+    /// (`KeyboardInterrupt`, the steps before it kept).
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
         let n = non_negative_int(n, "n")?;
-        let w = &mut self.inner;
-        let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.step(n))));
+        let (w, guard) = (&mut self.inner, &mut self.guard);
+        let mut signal: Option<PyErr> = None;
+        let mut checked = Instant::now();
+        let mut interrupted = || {
+            if checked.elapsed() < SIGNAL_CHECK {
+                return false;
+            }
+            checked = Instant::now();
+            signal = Python::attach(|py| py.check_signals()).err();
+            signal.is_some()
+        };
+        let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.step_guarded(guard, n, &mut interrupted))));
         match r {
-            Ok(result) => result.py_err(),
-            Err(_) => Err(RigidError::new_err("internal error in step (a bug in rigidrs: please report it)")),
-        }
+            Ok(result) => result.py_err()?,
+            Err(_) => {
+                self.guard.invalidate();
+                return Err(RigidError::new_err("internal error in step (a bug in rigidrs: please report it)"));
+            }
+        };
+        signal.map_or(Ok(()), Err)
     }
 
     /// The bodies, as NumPy views.
@@ -66,6 +90,7 @@ impl PyWorld {
         let n = self.inner.joint_position.len();
         let q = super::convert::scalar_or_vector(positions, "positions", n)?;
         let v = velocities.map(|v| super::convert::scalar_or_vector(v, "velocities", n)).transpose()?;
+        self.guard.invalidate();
         self.inner.set_joint_positions(&q, v.as_deref()).py_err()
     }
 
@@ -171,6 +196,7 @@ impl PyWorld {
         let body = non_negative_int(body, "body")? as usize;
         let f = vec3(force, "force")?;
         let p = point.map(|p| vec3(p, "point")).transpose()?;
+        self.guard.expose(exposed::FORCE | exposed::TORQUE);
         self.inner.apply_force(body, f, p).py_err()
     }
 
@@ -178,6 +204,7 @@ impl PyWorld {
     fn apply_torque(&mut self, body: i64, torque: &Bound<'_, PyAny>) -> PyResult<()> {
         let body = non_negative_int(body, "body")? as usize;
         let t = vec3(torque, "torque")?;
+        self.guard.expose(exposed::TORQUE);
         self.inner.apply_torque(body, t).py_err()
     }
 
@@ -223,6 +250,7 @@ impl PyWorld {
 
     /// Sets every applied force and torque to zero.
     fn clear_forces(&mut self) {
+        self.guard.expose(exposed::FORCE | exposed::TORQUE);
         self.inner.clear_forces();
     }
 

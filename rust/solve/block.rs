@@ -36,7 +36,7 @@ const PIVOT_TOLERANCE: f64 = 1e-10;
 const FRICTION_WEIGHT: f64 = 1e3;
 
 /// One body on its supports.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Block {
     /// Solver index of the upper body, and its height in the support graph.
     pub body: u32,
@@ -58,7 +58,7 @@ pub struct Block {
 }
 
 /// What a row constrains.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum RowKind {
     /// The normal of point `.0` (index in `ContactSolver::points`).
     Normal(u32),
@@ -69,7 +69,7 @@ pub enum RowKind {
 }
 
 /// One row of a block: its velocity is `ju·(v, ω)_upper + jl·(v, ω)_lower`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Row {
     pub ju: [Vec3; 2],
     pub jl: [Vec3; 2],
@@ -83,7 +83,7 @@ pub struct Row {
 }
 
 /// What a solve asks of a row.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Target {
     /// A normal: velocity (or position change) at least this, pushing only.
     AtLeast(f64),
@@ -161,7 +161,7 @@ impl Constraint {
 }
 
 /// Scratch space of one block solve (taken out of `Support` while it runs).
-#[derive(Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Scratch {
     pub r: Vec<f64>,
     pub lambda: Vec<f64>,

@@ -21,7 +21,7 @@ use nalgebra::Isometry3;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// Contact solver parameters, each with its unit and default.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverSettings {
     /// Rate at which penetration beyond the rest depth is pushed out, as a natural
     /// frequency (Hz); capped at a quarter of the substep rate (the Python build
@@ -71,7 +71,7 @@ pub struct PairContext {
 }
 
 /// One contact point.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Point {
     /// Anchors relative to each centre of mass at the step start, world (m).
     pub anchor1: Vec3,
@@ -106,7 +106,7 @@ pub struct Point {
 }
 
 /// The points of one manifold, sharing bodies, normal and material.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Constraint {
     /// Solver-body indices (0: fixed).
     pub s1: u32,
@@ -141,7 +141,7 @@ pub struct Constraint {
 }
 
 /// The contact solver's state for one step.
-#[derive(Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ContactSolver {
     pub constraints: Vec<Constraint>,
     /// The friction patch of each constraint (same index).

@@ -28,7 +28,7 @@ pub(crate) const SLIP_EPS: f64 = 1e-3;
 const TOUCH: f64 = 1e-4;
 
 /// The friction of one manifold.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Patch {
     /// `r × t` and `I⁻¹ (r × t)` of each body at the patch centre, for `t1`, `t2`.
     pub rt1: [Vec3; 2],

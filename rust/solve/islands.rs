@@ -11,7 +11,7 @@ use crate::body::{BodyKind, Bodies};
 use crate::math::Vec3;
 
 /// Sleep parameters, with units and defaults.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SleepSettings {
     /// Whether islands may sleep. Default true.
     pub enabled: bool,
@@ -29,7 +29,7 @@ impl Default for SleepSettings {
     }
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Islands {
     parent: Vec<u32>,
     /// Time each body has been at rest (s).

@@ -38,7 +38,7 @@ const QUAD: usize = 12;
 const PURE: f64 = 1e3;
 
 /// The shape of a contact patch in its tangent plane, about its centre.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PatchShape {
     /// Corners of the convex polygon (m), counter-clockwise; `n` of them.
     pub corners: [[f64; 2]; MAX_VERTICES],

@@ -4,7 +4,7 @@
 //! position error is fed back at `bias_rate`; `mass_scale` and `impulse_scale`
 //! soften the velocity solve.
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Softness {
     /// Position error to velocity (1/s).
     pub bias_rate: f64,

@@ -8,7 +8,7 @@ use crate::body::Bodies;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// A body as the solver sees it. Entry 0 stands for every fixed body.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SolverBody {
     pub v: Vec3,
     pub w: Vec3,

@@ -51,7 +51,7 @@ const RESIDUAL: f64 = 1e-6;
 const MASS_RATIO: f64 = 4.0;
 
 /// The support blocks of a step, bottom up, and the sweeps' scratch space.
-#[derive(Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Support {
     pub blocks: Vec<Block>,
     /// Constraint indices of the blocks' faces, block after block.

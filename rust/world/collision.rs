@@ -16,6 +16,7 @@ use crate::math::Vec3;
 use crate::solve::islands::Islands;
 use crate::solve::ContactSolver;
 
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Collision {
     pub colliders: Vec<Collider>,
     finite: Vec<u32>,

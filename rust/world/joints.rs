@@ -9,7 +9,7 @@ use crate::error::{non_negative, Error, Result};
 use crate::xpbd::joints::{Joint, JointKind, JointSpec};
 
 /// Which solver a joint asks for.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SolverChoice {
     /// An articulation where the joint graph allows it, else XPBD.
     #[default]
@@ -32,7 +32,7 @@ impl SolverChoice {
 }
 
 /// What `add_joint` takes besides the geometry: a name, the solver, controls.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct JointOptions {
     pub name: Option<String>,
     pub solver: SolverChoice,

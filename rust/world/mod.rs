@@ -2,15 +2,21 @@
 //! [`World`] (state arrays plus the stages this scene needs).
 
 pub mod articulations;
+pub mod checksum;
 pub mod collision;
 pub mod diagnostics;
+pub mod framing;
+pub mod guard;
 pub mod joints;
 pub mod link_contacts;
 pub mod particles;
 pub mod pipeline;
 pub mod profile;
 pub mod scene;
+pub mod scene_bytes;
 pub mod settings;
+pub mod snapshot;
+pub mod snapshot_bytes;
 pub mod step;
 pub mod validate;
 #[allow(clippy::module_inception)]

@@ -179,7 +179,7 @@ impl World {
 
 /// Energy and momentum of the movable particles (pinned ones are like fixed
 /// bodies: they carry none).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct ParticleSums {
     /// `Σ ½ m v²` (J), `−Σ m g·x` (J), `Σ m v` (kg·m/s), `Σ x × m v` (kg·m²/s).
     pub kinetic: f64,

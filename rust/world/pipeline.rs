@@ -30,7 +30,7 @@
 use crate::integrate::{BodyLists, Gyroscopic, InertiaClass, Integrator, Rotation};
 
 /// Which dynamic bodies a kick applies to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Group {
     /// Every awake dynamic body (a world without contacts).
     All,
@@ -40,7 +40,7 @@ pub enum Group {
     Touching,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum StageKind {
     BroadPhase,
     NarrowPhase,
@@ -100,7 +100,7 @@ pub enum StageKind {
 
 /// One stage: what it does, the fraction of the substep (or, `whole`, of the
 /// step) it covers, and its accumulator in the world's profile.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stage {
     pub kind: StageKind,
     pub frac: f64,
@@ -152,7 +152,7 @@ impl Stage {
 }
 
 /// What the plan depends on.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PlanInputs {
     pub integrator: Integrator,
     /// Gravity, an applied force or an applied torque acts.
@@ -181,7 +181,7 @@ pub struct PlanInputs {
     pub clusters: bool,
 }
 
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plan {
     pub pre: Vec<Stage>,
     pub sub: Vec<Stage>,

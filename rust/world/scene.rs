@@ -13,7 +13,7 @@ use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// Explicit inertia: principal moments about the body axes, or a full tensor
 /// (kg·m², about the centre of mass, in the frame of `position`/`orientation`).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub enum Inertia {
     Principal([f64; 3]),
     Tensor([[f64; 3]; 3]),
@@ -22,7 +22,7 @@ pub enum Inertia {
 /// What `add_body` takes. Mass comes from exactly one of: `shape` + `density`,
 /// `shape` + `mass` (uniform density scaled to that mass), `mass` + `inertia`
 /// (with or without a shape), or `mass_properties` (e.g. from sampled density).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BodySpec {
     pub shape: Option<Shape>,
     /// Uniform density (kg/m³).
@@ -78,7 +78,7 @@ impl Default for BodySpec {
 
 /// A body as compiled into a world: its initial state in the principal frame, and
 /// where its shape sits in that frame.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BodyDesc {
     pub init: BodyInit,
     pub shape: Option<Shape>,
@@ -90,7 +90,7 @@ pub struct BodyDesc {
     pub name: Option<String>,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Scene {
     /// Gravitational acceleration (m/s²). Default (0, 0, −9.81).
     pub gravity: [f64; 3],

@@ -5,7 +5,7 @@ use crate::integrate::Integrator;
 use crate::solve::islands::SleepSettings;
 use crate::solve::SolverSettings;
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Settings {
     /// Time step of one `World::step` (s). No default: the caller chooses it.
     pub dt: f64,

@@ -18,45 +18,16 @@ use crate::math::{quat, Vec3};
 impl World {
     /// Advances `n` steps. The state is checked first: if a body is invalid (NaN,
     /// non-unit quaternion written through a view) nothing moves and the error
-    /// names the body.
+    /// names the body. (`step_guarded` also undoes a step that fails.)
     pub fn step(&mut self, n: u64) -> Result<()> {
-        validate::check(&self.bodies)?;
-        self.check_particles()?;
-        validate::normalize(&mut self.bodies);
-        self.wake_on_user_input();
-        self.replan(false);
-        self.sync_targets();
-        self.articulations.invalidate();
+        self.check_inputs()?;
+        self.prepare();
         let src = self.kick_sources();
         for _ in 0..n {
-            let h = self.settings.dt / self.substeps as f64;
-            // Indexing, not iterating: a stage may rebuild the plan (bodies waking
-            // in the narrow phase, falling asleep in the sleep stage).
-            for k in 0..self.plan.pre.len() {
-                self.timed(self.plan.pre[k], h, &src);
-            }
-            let (substeps, h) = self.step_substeps(h);
-            for _ in 0..substeps {
-                for k in 0..self.plan.sub.len() {
-                    self.timed(self.plan.sub[k], h, &src);
-                }
-            }
-            if let Some(c) = self.collision.as_mut() {
-                c.solver.finish(&mut c.narrow);
-            }
-            self.finish_link_contacts(substeps);
-            for k in 0..self.plan.post.len() {
-                self.timed(self.plan.post[k], h, &src);
-            }
-            self.steps += 1;
+            self.one_step(&src);
         }
         self.profile.count_steps(n);
-        if !self.articulations.is_empty() || !self.joints.is_empty() {
-            self.read_joints();
-        }
-        if self.keep_derived {
-            self.bodies.update_derived();
-        }
+        self.finish();
         if validate::all_finite(&self.bodies) {
             return Ok(());
         }
@@ -71,11 +42,76 @@ impl World {
         })
     }
 
+    /// Refuses a state written through views that no step can take (NaN,
+    /// non-unit quaternions), naming the body or particle; changes nothing.
+    pub(crate) fn check_inputs(&self) -> Result<()> {
+        validate::check(&self.bodies)?;
+        self.check_particles()
+    }
+
+    /// What every `step` call does once before its steps: round-off out of
+    /// written quaternions, sleepers given a velocity woken, the plan and drive
+    /// targets brought up to date.
+    pub(crate) fn prepare(&mut self) {
+        validate::normalize(&mut self.bodies);
+        #[cfg(test)]
+        if self.fail_at == Some(u64::MAX) {
+            self.fail_at = None; // once: the replay that undoes it prepares too
+            panic!("injected failure in prepare");
+        }
+        self.wake_on_user_input();
+        self.replan(false);
+        self.sync_targets();
+        self.articulations.invalidate();
+    }
+
+    /// One step of `dt`: the plan's stages, substeps and all.
+    pub(crate) fn one_step(&mut self, src: &KickSources) {
+        let h = self.settings.dt / self.substeps as f64;
+        // Indexing, not iterating: a stage may rebuild the plan (bodies waking
+        // in the narrow phase, falling asleep in the sleep stage).
+        for k in 0..self.plan.pre.len() {
+            self.timed(self.plan.pre[k], h, src);
+        }
+        let (substeps, h) = self.step_substeps(h);
+        for _ in 0..substeps {
+            for k in 0..self.plan.sub.len() {
+                self.timed(self.plan.sub[k], h, src);
+            }
+        }
+        if let Some(c) = self.collision.as_mut() {
+            c.solver.finish(&mut c.narrow);
+        }
+        self.finish_link_contacts(substeps);
+        for k in 0..self.plan.post.len() {
+            self.timed(self.plan.post[k], h, src);
+        }
+        self.steps += 1;
+    }
+
+    /// What every `step` call does once after its steps: the joint coordinates
+    /// and the derived arrays the views show.
+    pub(crate) fn finish(&mut self) {
+        if !self.articulations.is_empty() || !self.joints.is_empty() {
+            self.read_joints();
+        }
+        if self.keep_derived {
+            self.bodies.update_derived();
+        }
+    }
+
     #[inline(always)]
     fn timed(&mut self, stage: Stage, h: f64, src: &KickSources) {
         // Rotation substeps run (and show in the profile) only when a body needs them.
         if matches!(stage.kind, StageKind::RotateFast(_)) && self.fast.is_empty() {
             return;
+        }
+        if let Some(w) = self.watch.as_mut() {
+            w.current = stage.name();
+        }
+        #[cfg(test)]
+        if self.fail_at == Some(self.steps) && matches!(stage.kind, StageKind::NarrowPhase) {
+            panic!("injected failure");
         }
         if self.profile.enabled {
             let t0 = Instant::now();
@@ -83,6 +119,9 @@ impl World {
             self.profile.add(stage.slot, t0);
         } else {
             self.run(stage, h, src);
+        }
+        if self.watch.is_some() {
+            self.watch_after(stage.name());
         }
     }
 

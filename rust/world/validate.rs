@@ -54,10 +54,11 @@ pub fn normalize(bodies: &mut Bodies) {
     }
 }
 
-/// Whether every position, velocity and orientation is finite: one pass of sums,
-/// since any NaN or infinity makes its sum non-finite.
+/// Whether every position, velocity and orientation is finite: one pass of
+/// sums of `x · 0`, which is 0 for a finite x and NaN for NaN or infinity (a
+/// sum of the values themselves could overflow while each is finite).
 pub fn all_finite(bodies: &Bodies) -> bool {
-    let flat = |v: &[[f64; 3]]| v.iter().map(|a| a[0] + a[1] + a[2]).sum::<f64>();
-    let q: f64 = bodies.orientation.iter().map(|a| a[0] + a[1] + a[2] + a[3]).sum();
-    (flat(&bodies.position) + flat(&bodies.linear_velocity) + flat(&bodies.angular_velocity) + q).is_finite()
+    let flat = |v: &[[f64; 3]]| v.iter().map(|a| a[0] * 0.0 + a[1] * 0.0 + a[2] * 0.0).sum::<f64>();
+    let q: f64 = bodies.orientation.iter().map(|a| a[0] * 0.0 + a[1] * 0.0 + a[2] * 0.0 + a[3] * 0.0).sum();
+    (flat(&bodies.position) + flat(&bodies.linear_velocity) + flat(&bodies.angular_velocity) + q) == 0.0
 }

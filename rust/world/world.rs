@@ -12,6 +12,7 @@ use crate::integrate::{BodyLists, Integrator, Rotation};
 use crate::math::Vec3;
 use nalgebra::Isometry3;
 
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct World {
     /// Body state (views of these arrays are what Python sees).
     pub bodies: Bodies,
@@ -63,7 +64,16 @@ pub struct World {
     /// Whether the derived arrays (rotation, angular momentum, world inertia) are
     /// kept fresh after each `step` call; set once a user reads one of them.
     pub keep_derived: bool,
+    /// Stage timings: not state; a world read from bytes starts a new window.
+    #[serde(skip)]
     pub profile: Profile,
+    /// Set only while a failed step is run again to find its stage (`guard`).
+    #[serde(skip)]
+    pub(crate) watch: Option<super::guard::Watch>,
+    /// Tests only: the step count at which a step panics (inside a stage).
+    #[cfg(test)]
+    #[serde(skip)]
+    pub(crate) fail_at: Option<u64>,
 }
 
 impl World {
@@ -148,6 +158,9 @@ impl World {
             fast_weights,
             steps: 0,
             keep_derived: false,
+            watch: None,
+            #[cfg(test)]
+            fail_at: None,
             profile: Profile::default(),
         };
         world.replan(true);

@@ -10,7 +10,7 @@ use super::compliance::{delta_lambda, Compliance, Substep};
 use crate::body::Bodies;
 use crate::math::Vec3;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Attachment {
     pub particle: u32,
     pub body: u32,

@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 use super::compliance::{delta_lambda, Compliance, Substep};
 use crate::math::Vec3;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Bending {
     /// Edge p0–p1, tips p2 and p3.
     pub p: [u32; 4],

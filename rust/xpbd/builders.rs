@@ -17,7 +17,7 @@ use nalgebra::Point3;
 use parry3d_f64::shape::{SharedShape, TriMesh, TriMeshFlags};
 
 /// Particle properties shared by a builder's particles.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Material {
     /// Total mass (kg) > 0, shared equally.
     pub mass: f64,

@@ -31,7 +31,7 @@ use crate::collide::{Collider, Filter};
 use crate::math::{quat, Vec3};
 
 /// A particle touching (or about to touch) a rigid collider this substep.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ColliderContact {
     pub particle: u32,
     pub body: u32,
@@ -47,7 +47,7 @@ pub struct ColliderContact {
 }
 
 /// Particles against rigid colliders.
-#[derive(Clone, Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ColliderCollisions {
     pub colliders: Vec<Collider>,
     boxes: Vec<Option<Aabb>>,
@@ -238,7 +238,7 @@ fn friction(ct: &mut ColliderContact, p: &mut Particles, b: &mut Bodies, r: &Vec
 }
 
 /// Particles with a radius against each other.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ParticlePairs {
     /// Particles with a radius > 0.
     ids: Vec<u32>,

@@ -19,7 +19,7 @@
 use crate::error::{non_negative, Result};
 
 /// Compliance and damping of one constraint.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Compliance {
     /// Compliance `α`: inverse stiffness in units of C per unit of generalized
     /// force (m/N for lengths, rad/(N·m) for angles, m³/Pa = m⁵/N for volumes).
@@ -39,7 +39,7 @@ impl Compliance {
 }
 
 /// Per-substep factors: `1/h` and `1/h²` of the substep `h` (s).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Substep {
     pub h: f64,
     pub inv_h: f64,

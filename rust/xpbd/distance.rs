@@ -5,7 +5,7 @@
 use super::compliance::{delta_lambda, Compliance, Substep};
 use crate::math::Vec3;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Distance {
     pub i: u32,
     pub j: u32,

@@ -18,7 +18,7 @@ use crate::error::{non_negative, Error, Result};
 use crate::math::{quat, Quat, Vec3};
 
 /// The kind of each constraint, by index.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ConstraintKind {
     Distance,
     Bending,
@@ -39,7 +39,7 @@ impl ConstraintKind {
     }
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct XpbdModel {
     /// Particles in their initial state.
     pub particles: Particles,

@@ -8,7 +8,7 @@ use crate::collide::Filter;
 use crate::error::{finite3, non_negative, positive, Error, Result};
 
 /// What `Scene::add_particle` takes, each field with its unit and default.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ParticleSpec {
     /// Position, world (m). No default.
     pub position: [f64; 3],
@@ -51,7 +51,7 @@ impl ParticleSpec {
 }
 
 /// Per-particle arrays. Index `i` of every field is particle `i`.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Particles {
     /// Position, world (m). Writable through `world.particles.position`.
     pub position: Vec<[f64; 3]>,

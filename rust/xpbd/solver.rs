@@ -45,6 +45,7 @@ use crate::collide::Collider;
 use crate::error::Result;
 use crate::math::Vec3;
 
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Xpbd {
     pub particles: Particles,
     pub distance: Vec<Distance>,

@@ -3,7 +3,7 @@
 //! allocation after the first build). A query visits the 27 cells around a
 //! point; buckets two cells share are visited once.
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct SpatialHash {
     /// Cell edge (m).
     cell: f64,

@@ -14,7 +14,7 @@ use crate::math::Vec3;
 /// Smallest |6V| (m³) of a tetrahedron that still has a volume to keep.
 pub const DEGENERATE_VOLUME: f64 = 1e-18;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct TetVolume {
     pub p: [u32; 4],
     /// Rest volume V₀ (m³), signed by the vertex order.
@@ -62,7 +62,7 @@ pub fn project_tet(c: &mut TetVolume, x: &mut [[f64; 3]], prev: &[[f64; 3]], w: 
 }
 
 /// The volume of a closed mesh of particles.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct MeshVolume {
     /// The distinct particles of the mesh.
     pub particles: Vec<u32>,

@@ -45,7 +45,7 @@ const NONE: u32 = u32::MAX;
 
 /// The body side of a row: velocity `lin·v + ang·ω` of solver body `s`, and
 /// what a unit impulse does to it (`M⁻¹` times the row). `s = 0`: no body.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BodyTerm {
     pub s: u32,
     pub lin: Vec3,
@@ -57,7 +57,7 @@ pub struct BodyTerm {
 /// The articulated side of a row: `J` and `(M + A)⁻¹ Jᵀ` at `at` in the
 /// Jacobian and response buffers, over the `n` joint velocities at `qd` in
 /// `Generalized::qd`. `n = 0`: no articulation.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ArtTerm {
     pub at: u32,
     pub qd: u32,
@@ -66,7 +66,7 @@ pub struct ArtTerm {
 
 /// One row of a constraint touching a link: up to two body sides and two
 /// articulated sides (links of two articulations), its effective inverse mass.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Row {
     pub body: [BodyTerm; 2],
     pub art: [ArtTerm; 2],
@@ -76,7 +76,7 @@ pub struct Row {
 
 /// A constraint touching a link and where its rows are: its points' normals,
 /// then (with friction) the patch's two tangents and (with a lever) its twist.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct LinkConstraint {
     pub ci: u32,
     pub row: u32,
@@ -89,7 +89,7 @@ pub struct LinkConstraint {
 }
 
 /// An articulation in contact this step: its joint velocities at `qd`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Slot {
     pub art: u32,
     pub qd: u32,
@@ -97,7 +97,7 @@ pub struct Slot {
 }
 
 /// The solver's view of the articulations in contact.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Generalized {
     /// Per world body: the articulation and link it is (`NONE` if it is not).
     link_of: Vec<(u32, u32)>,

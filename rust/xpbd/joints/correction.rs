@@ -29,7 +29,7 @@ pub struct Pair<'s> {
 }
 
 /// What a joint accumulates over one substep (reset at its start).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Multipliers {
     /// λ of each of the joint's scalar constraints (N·s² for positions, N·m·s²
     /// for angles).
@@ -47,7 +47,7 @@ pub struct Multipliers {
 }
 
 /// Pose of one end: centre of mass (m), orientation, whether it moves, inverse mass.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Pose {
     pub x: Vec3,
     pub q: Quat,

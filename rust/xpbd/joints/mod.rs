@@ -40,7 +40,7 @@ use crate::error::{Error, Result};
 use crate::math::{Quat, Vec3};
 
 /// What a joint constrains.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum JointKind {
     Spherical,
     Hinge,
@@ -73,7 +73,7 @@ impl JointKind {
 
 /// A joint as compiled: its frames in each body's principal frame (for the
 /// world, in the world frame), taken from the bodies' initial poses.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Joint {
     pub kind: JointKind,
     pub body_a: u32,
@@ -102,7 +102,7 @@ pub struct Joint {
 }
 
 /// Every joint of a world, what each did over the last substep.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Joints {
     pub joints: Vec<Joint>,
     /// The body pairs joints tie together (the world left out).

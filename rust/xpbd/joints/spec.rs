@@ -11,7 +11,7 @@ use crate::math::{quat, Quat, Vec3};
 
 /// A joint to add. Points and directions are in the world frame at the bodies'
 /// initial poses (as given to `add_body`).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct JointSpec {
     pub kind: JointKind,
     /// Index of body a.

@@ -12,7 +12,7 @@ pub type Mat9 = SMatrix<f64, 9, 9>;
 pub type Vec9 = SVector<f64, 9>;
 
 /// How far the goal shape may deform from the rest shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Mode {
     /// Goal = the best rotation of the rest shape.
     Rigid,
@@ -42,7 +42,7 @@ impl Mode {
 }
 
 /// What `Scene::add_shape_matching` takes, each with its unit and default.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ClusterSpec {
     /// Default [`Mode::Linear`].
     pub mode: Mode,
@@ -87,7 +87,7 @@ pub fn quadratic_terms(q: &Vec3) -> Vec9 {
     Vec9::from([q.x, q.y, q.z, q.x * q.x, q.y * q.y, q.z * q.z, q.x * q.y, q.y * q.z, q.z * q.x])
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Cluster {
     pub particles: Vec<u32>,
     pub spec: ClusterSpec,

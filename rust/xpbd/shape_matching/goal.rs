@@ -23,7 +23,7 @@ use super::rotation::rotation_quaternion;
 use crate::math::{Mat3, Vec3};
 
 /// What a goal computation leaves behind besides the goals.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Fit {
     /// Polar rotation of `Apq`.
     pub rotation: Mat3,

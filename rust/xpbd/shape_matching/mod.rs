@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::math::Vec3;
 
 /// The clusters of a world and the scratch space of their stage.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ShapeMatching {
     pub clusters: Vec<Cluster>,
     /// Particles in at least one cluster, and per particle the number of clusters.

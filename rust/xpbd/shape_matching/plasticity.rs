@@ -11,7 +11,7 @@ use crate::error::{non_negative, Error, Result};
 use crate::math::Mat3;
 
 /// Plasticity parameters, each with its unit and default.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plasticity {
     /// Yield: elastic deformation `‖S − I‖_F` (–) beyond which the cluster flows.
     pub yield_strain: f64,

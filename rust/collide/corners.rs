@@ -15,7 +15,7 @@ use nalgebra::Point3;
 use parry3d_f64::shape::{FeatureId, PackedFeatureId, Shape, TypedShape};
 
 /// Where a shape has corners.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Corners {
     /// No corner (balls, capsules, cylinders; compounds, whose points are in
     /// their parts' frames).

@@ -21,6 +21,7 @@ from ._core import (
     MassProperties,
     Particles,
     Plane,
+    Recording,
     RigidError,
     Scene,
     Shape,
@@ -33,12 +34,14 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from .view import Camera, render
 from .work_precision import accuracy
 
 __all__ = [
     "ARTICULATION_INTEGRATORS",
     "INTEGRATORS",
     "Bodies",
+    "Camera",
     "Box",
     "Capsule",
     "Compound",
@@ -50,6 +53,7 @@ __all__ = [
     "MassProperties",
     "Particles",
     "Plane",
+    "Recording",
     "RigidError",
     "Scene",
     "Shape",
@@ -62,4 +66,5 @@ __all__ = [
     "accuracy",
     "mass_properties",
     "polar_decomposition",
+    "render",
 ]

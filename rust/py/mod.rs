@@ -8,6 +8,8 @@ mod errors;
 mod joints;
 mod mass;
 mod polar;
+mod recording;
+mod shape_readback;
 mod particles;
 mod scene;
 mod shapes;
@@ -33,6 +35,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<particles::PyParticles>()?;
     m.add_class::<drive::PyDrive>()?;
     m.add_class::<joint_views::PyJoints>()?;
+    m.add_class::<recording::PyRecording>()?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;

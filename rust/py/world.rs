@@ -16,11 +16,13 @@ use crate::world::World;
 #[pyclass(name = "World", module = "rigidrs._core")]
 pub struct PyWorld {
     pub inner: World,
+    /// Recordings fed by `step` (see `recording`).
+    pub recorders: super::recording::Attached,
 }
 
 impl PyWorld {
     pub fn new(inner: World) -> Self {
-        Self { inner }
+        Self { inner, recorders: Default::default() }
     }
 }
 
@@ -36,8 +38,8 @@ impl PyWorld {
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
         let n = non_negative_int(n, "n")?;
-        let w = &mut self.inner;
-        let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.step(n))));
+        let (w, rec) = (&mut self.inner, &mut self.recorders);
+        let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| rec.step(w, n))));
         match r {
             Ok(result) => result.py_err(),
             Err(_) => Err(RigidError::new_err("internal error in step (a bug in rigidrs: please report it)")),

@@ -685,10 +685,11 @@ class Recording:
         """Bytes held by the frames: 8·T·(2 + 7·N + 3·P)."""
     def detach(self) -> None:
         """Stops capturing; the frames so far stay. Idempotent."""
-    def save(self, path: str | os.PathLike[str]) -> None:
-        """Writes the frames to ``path`` (the name is kept as given) with ``numpy.savez``,
-        through a temporary file and a rename: on failure (missing directory, no
-        permission) ``OSError`` and no file left behind."""
+    def save(self, path: str | os.PathLike[str], compress: bool = False) -> None:
+        """Writes the frames to ``path`` (the name is kept as given) with ``numpy.savez``, or
+        ``numpy.savez_compressed`` with ``compress=True`` (default False; smaller when bodies
+        rest, slower), through a temporary file and a rename: on failure (missing directory,
+        no permission) ``OSError`` and no file left behind."""
     @staticmethod
     def load(path: str | os.PathLike[str]) -> Recording:
         """Reads a file written by ``save``: ``FileNotFoundError`` if there is none,

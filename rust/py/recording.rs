@@ -185,10 +185,12 @@ impl PyRecording {
     }
 
     /// Writes the frames to `path` (str or path-like; the name is kept as given)
-    /// with `numpy.savez`: written to a temporary file next to it, then renamed,
-    /// so a failure (missing directory, no permission) raises `OSError` and leaves
-    /// no file behind.
-    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    /// with `numpy.savez`, or `numpy.savez_compressed` with `compress=True`
+    /// (default False; smaller when bodies rest, slower): written to a temporary
+    /// file next to it, then renamed, so a failure (missing directory, no
+    /// permission) raises `OSError` and leaves no file behind.
+    #[pyo3(signature = (path, compress=false))]
+    fn save(&self, py: Python<'_>, path: PathBuf, compress: bool) -> PyResult<()> {
         let d = PyDict::new(py);
         {
             let f = lock(&self.frames);
@@ -204,7 +206,7 @@ impl PyRecording {
         let tmp = temp_name(&path);
         let written = py
             .import("numpy")?
-            .getattr("savez")?
+            .getattr(if compress { "savez_compressed" } else { "savez" })?
             .call((tmp.clone(),), Some(&d))
             .map(|_| ())
             .and_then(|_| std::fs::rename(&tmp, &path).map_err(PyErr::from));

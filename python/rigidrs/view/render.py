@@ -440,7 +440,7 @@ def _bounds(shapes: Sequence[Mapping[str, Any] | None], pos: F64, quat: F64, par
 def render(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = None, *,
            size: tuple[int, int] = (640, 480), camera: Camera | Mapping[str, Any] | None = None,
            fps: float = 30.0, speed: float = 1.0, frame: int = -1, colors: Any = None,
-           shadows: bool = True, fog: bool = True, detail: int = 2) -> Any:
+           shadows: bool = True, fog: bool = True, detail: int = 2, antialias: int = 1) -> Any:
     """Draws ``source`` (a World or Scene) at the states of ``rec`` (a Recording), or its
     current state (a Scene: its initial state) without one.
 
@@ -457,7 +457,10 @@ def render(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = N
     body, (N, 3), or {body: (3,)}, RGB in 0..1 or 0..255; default a palette, fixed bodies
     grey. ``shadows`` projects the bodies on the ground plane (the scene's first plane seen
     from above); ``fog`` fades distant things to the horizon colour; ``detail`` (0..3,
-    default 2) subdivides spheres, cylinders, cones and capsules. Returns the path written.
+    default 2) subdivides spheres, cylinders, cones and capsules; ``antialias`` (1..4,
+    default 1) renders that many samples per pixel along each axis and averages them
+    (costs its square in time). Identical consecutive GIF frames are merged by the GIF
+    writer (their durations add up). Returns the path written.
     """
     if isinstance(rec, (str, os.PathLike)) and path is None:
         rec, path = None, rec
@@ -478,6 +481,8 @@ def render(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = N
             raise FileNotFoundError(f"cannot write {path}: the directory {folder} does not exist")
         if not os.access(folder, os.W_OK):
             raise PermissionError(f"cannot write {path}: the directory {folder} is not writable")
+    if antialias not in (1, 2, 3, 4):
+        raise ValueError(f"antialias must be 1, 2, 3 or 4, got {antialias!r}")
     if not (fps > 0 and np.isfinite(fps)) or not (speed > 0 and np.isfinite(speed)):
         raise ValueError(f"fps and speed must be positive, got fps={fps}, speed={speed}")
     world, shapes = _source(source)
@@ -488,6 +493,10 @@ def render(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = N
         parts = np.array(world.particles.position)[None]
         times = np.zeros(1)
     else:
+        from .. import Recording
+
+        if not isinstance(rec, Recording):
+            raise TypeError(f"rec must be a rigidrs Recording or None, got {type(rec).__name__}")
         pos, quat, parts, times = rec.position, rec.orientation, rec.particle_position, rec.times
         if pos.shape[1] != n or parts.shape[1] != len(world.particles.position):
             raise ValueError(f"the recording does not match the scene: {pos.shape[1]} bodies and "
@@ -498,12 +507,16 @@ def render(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = N
     has_particles = parts.shape[1] > 0
     fixed = ~(np.asarray(world.bodies.inverse_mass) > 0)
     r = Renderer(shapes, fixed, bounds=_bounds(shapes, pos, quat, parts if has_particles else None),
-                 size=size, camera=camera, colors=colors,
+                 size=(int(size[0]) * antialias, int(size[1]) * antialias), camera=camera, colors=colors,
                  particle_radius=np.array(world.particles.radius) if has_particles else None,
                  shadows=shadows, fog=fog, detail=detail)
 
     def draw(k: int) -> npt.NDArray[np.uint8]:
-        return r.frame(pos[k], quat[k], parts[k] if has_particles else None)
+        img = r.frame(pos[k], quat[k], parts[k] if has_particles else None)
+        if antialias == 1:
+            return img
+        a, h, w = antialias, r.height // antialias, r.width // antialias
+        return np.asarray(img.reshape(h, a, w, a, 3).mean(axis=(1, 3)).round().astype(np.uint8))
 
     if path is None:
         return draw(frame)

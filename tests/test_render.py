@@ -156,3 +156,45 @@ def test_particles_are_drawn() -> None:
     cam = Camera(eye=(0.0, 0.0, 3.0), target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), fov=40.0)
     img = rr.render(s, size=(100, 100), camera=cam, fog=False)
     assert (img.astype(int).sum(-1) > 3 * 200).sum() > 20  # white-ish particles over the sky
+
+
+def test_every_kind_of_shape_shows_in_its_colour() -> None:
+    """Each body gets its own pure colour; each colour must cover pixels, and a
+    two-sided TriMesh (a square sheet) shows from above and from below."""
+    s = rr.Scene()
+    hull = rr.ConvexHull(np.array([[0, 0, 0], [0.4, 0, 0], [0, 0.4, 0], [0, 0, 0.4], [0.3, 0.3, 0.3]]))
+    kinds = [rr.Sphere(0.2), rr.Box((0.2, 0.15, 0.1)), rr.Capsule(0.1, 0.15), rr.Cylinder(0.15, 0.15),
+             rr.Cone(0.2, 0.2), hull, rr.Compound([(rr.Sphere(0.1), (0, 0, 0)), (rr.Box((0.1, 0.1, 0.1)), (0.2, 0, 0))])]
+    for k, shape in enumerate(kinds):
+        s.add_body(shape, fixed=True, position=(0.8 * k - 2.4, 0.0, 0.0))
+    sheet = rr.TriMesh(np.array([[-3, -1, -0.5], [3, -1, -0.5], [3, 1, -0.5], [-3, 1, -0.5]]),
+                       np.array([[0, 1, 2], [0, 2, 3]]))
+    s.add_body(sheet, fixed=True)
+    palette = np.array([(255, 0, 0), (0, 255, 0), (0, 0, 255), (255, 255, 0), (255, 0, 255), (0, 255, 255),
+                        (255, 128, 0), (128, 0, 255)], dtype=float)
+    for eye in ((0.0, -4.0, 3.0), (0.0, -4.0, -3.0)):
+        img = rr.render(s, size=(480, 240), camera=Camera(eye=eye, target=(0, 0, 0), fov=60), colors=palette,
+                        fog=False, shadows=False).astype(float)
+        # Shading scales a colour: its direction (normalised RGB) identifies the body.
+        unit = img / np.maximum(np.linalg.norm(img, axis=-1, keepdims=True), 1)
+        ref = palette / np.linalg.norm(palette, axis=1, keepdims=True)
+        # From below, the sheet hides the bodies above it.
+        for k in range(len(kinds) + 1) if eye[2] > 0 else [len(kinds)]:
+            match = (unit @ ref[k] > 0.995) & (img.max(-1) > 40)
+            assert match.sum() > 30, (eye, k)
+
+
+def test_a_writer_failing_midway_leaves_no_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    iio = pytest.importorskip("imageio.v2")
+
+    def broken(path: str, frames: object, **kwargs: object) -> None:
+        Path(path).write_bytes(b"GIF89a partial")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(iio, "mimsave", broken)
+    w = red_box_scene().build(dt=1 / 60)
+    rec = w.record()
+    w.step(3)
+    with pytest.raises(OSError, match="disk full"):
+        rr.render(w, rec, tmp_path / "x.gif", size=(32, 24))
+    assert os.listdir(tmp_path) == []

@@ -115,10 +115,13 @@ fn rows<'py>(py: Python<'py>, data: &[f64], shape: [usize; 3]) -> PyResult<Bound
 }
 
 /// A temporary name next to `path` (same file system, so the rename is atomic),
-/// ending in .npz because `np.savez` appends that otherwise.
+/// unique to this process and call (two saves at once never share one), ending in
+/// .npz because `np.savez` appends that otherwise.
 fn temp_name(path: &Path) -> PathBuf {
+    static COUNT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let k = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let name = path.file_name().map_or("recording".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.{}.tmp.npz", std::process::id()))
+    path.with_file_name(format!(".{name}.{}-{k}.tmp.npz", std::process::id()))
 }
 
 #[pymethods]

@@ -322,13 +322,14 @@ class Renderer:
         sel = np.nonzero((facing | two) & front[tris[:, 0]] & front[tris[:, 1]] & front[tris[:, 2]])[0]
         t = tris[sel]
         lit = AMBIENT + DIFFUSE * np.clip(-(normal[sel] @ self.light), 0.0, 1.0)
-        shade = self._fogged(color[sel] * lit[:, None], vd[t].mean(axis=1))
+        shade = color[sel] * lit[:, None]
         pix, iz, k = _rasterize(vxy[t], 1.0 / vd[t], w, h)
         best = zbuf.copy()
         np.maximum.at(best, pix, iz)
         win = iz >= best[pix]
         win &= iz > zbuf[pix] * (1 + 1e-9)  # in front of the ground (and sky: 0)
-        rgb[pix[win]] = shade[k[win]]
+        # Fog per pixel, from its own depth: a large triangle shows no seam.
+        rgb[pix[win]] = self._fogged(shade[k[win]], 1.0 / iz[win])
         return _to_u8(rgb, h, w)
 
     def _shadow(self, rgb: F64, ground: npt.NDArray[np.bool_], verts: F64, tris: I64, normal: F64,

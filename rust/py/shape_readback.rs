@@ -12,7 +12,7 @@ use crate::body::shape::ShapeKind;
 use crate::body::Shape;
 
 fn points<'py>(py: Python<'py>, p: impl Iterator<Item = [f64; 3]>) -> PyResult<Bound<'py, PyAny>> {
-    let flat: Vec<f64> = p.flat_map(|x| x).collect();
+    let flat: Vec<f64> = p.flatten().collect();
     let n = flat.len() / 3;
     Ok(PyArray1::from_vec(py, flat).reshape([n, 3])?.into_any())
 }

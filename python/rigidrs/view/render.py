@@ -95,9 +95,13 @@ class _Scene:
         if colors is not None:
             if isinstance(colors, Mapping):
                 for i, c in colors.items():
+                    if not 0 <= int(i) < n:
+                        raise ValueError(f"colors: body {i} is out of range (the scene has {n} bodies)")
                     base[int(i)] = _color(c)
             else:
                 c = np.asarray(colors, dtype=float)
+                if c.ndim == 2 and len(c) != n:
+                    raise ValueError(f"colors must be (3,), ({n}, 3) or a dict {{body: colour}}, got shape {c.shape}")
                 base[:] = _color(c) if c.ndim == 1 else np.array([_color(x) for x in c]).reshape(n, 3)
         self.color = base
         offset = 0

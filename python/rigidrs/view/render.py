@@ -245,6 +245,7 @@ class Renderer:
         self.fog_far = 4.0 * float(np.linalg.norm(self.eye - np.asarray(self.camera.target, float))) + 1e-9
         self._background_key: Any = None
         self._bg: tuple[F64, F64, npt.NDArray[np.bool_], F64 | None] = (np.zeros(0), np.zeros(0), np.zeros(0, bool), None)
+        self._bg_u8 = np.zeros((0, 3), np.uint8)
 
     # Screen space: x right, y down, in pixels; depth along the view direction.
     def project(self, p: F64) -> tuple[F64, F64]:
@@ -304,16 +305,19 @@ class Renderer:
             ground |= hit
         self._background_key = key
         self._bg = (rgb, iz, ground, None if main is None else np.concatenate([main[0], [main[1]]]))
+        self._bg_u8 = _u8(rgb)
         return self._bg
 
     def frame(self, pos: F64, quat: F64, particles: F64 | None = None) -> npt.NDArray[np.uint8]:
         """One picture (H, W, 3) uint8 of the bodies at ``pos`` (N, 3), ``quat`` (N, 4)."""
         h, w = self.height, self.width
         rgb, zbuf, ground, plane = self._background(self.scene.plane_world(pos, quat))
-        rgb, zbuf = rgb.copy(), zbuf.copy()
+        # The picture is assembled in bytes: the background's bytes, then the shadowed
+        # ground and the bodies' pixels converted alone (a float frame costs more).
+        img = self._bg_u8.copy()
         verts, tris, color, two = self.scene.triangles(pos, quat, particles)
         if len(tris) == 0:
-            return _to_u8(rgb, h, w)
+            return img.reshape(h, w, 3)
         vxy, vd = self.project(verts)
         tri = verts[tris]
         normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -321,7 +325,7 @@ class Renderer:
         facing = np.einsum("ij,ij->i", normal, tri[:, 0] - self.eye) < 0
         normal = np.where((two & ~facing)[:, None], -normal, normal)
         if plane is not None and self.shadows:
-            self._shadow(rgb, ground, verts, tris, normal, plane)
+            self._shadow(img, rgb, ground, verts, tris, normal, plane)
         front = vd > self.near
         sel = np.nonzero((facing | two) & front[tris[:, 0]] & front[tris[:, 1]] & front[tris[:, 2]])[0]
         t = tris[sel]
@@ -333,10 +337,10 @@ class Renderer:
         win = iz >= best[pix]
         win &= iz > zbuf[pix] * (1 + 1e-9)  # in front of the ground (and sky: 0)
         # Fog per pixel, from its own depth: a large triangle shows no seam.
-        rgb[pix[win]] = self._fogged(shade[k[win]], 1.0 / iz[win])
-        return _to_u8(rgb, h, w)
+        img[pix[win]] = _u8(self._fogged(shade[k[win]], 1.0 / iz[win]))
+        return img.reshape(h, w, 3)
 
-    def _shadow(self, rgb: F64, ground: npt.NDArray[np.bool_], verts: F64, tris: I64, normal: F64,
+    def _shadow(self, img: npt.NDArray[np.uint8], rgb: F64, ground: npt.NDArray[np.bool_], verts: F64, tris: I64, normal: F64,
                 plane: F64) -> None:
         """Darkens the ground where the bodies' triangles that face the light project onto it."""
         n, off = plane[:3], plane[3]
@@ -352,7 +356,7 @@ class Renderer:
         mask = np.zeros(len(rgb), bool)
         mask[pix] = True
         mask &= ground
-        rgb[mask] *= 0.55 + 0.45 * AMBIENT
+        img[mask] = _u8(rgb[mask] * (0.55 + 0.45 * AMBIENT))
 
     @property
     def _tile(self) -> float:
@@ -360,8 +364,8 @@ class Renderer:
         return float(10 ** np.floor(np.log10(max(span / 4, 1e-6))))
 
 
-def _to_u8(rgb: F64, h: int, w: int) -> npt.NDArray[np.uint8]:
-    return np.asarray(np.clip(rgb * 255 + 0.5, 0, 255).astype(np.uint8).reshape(h, w, 3))
+def _u8(rgb: F64) -> npt.NDArray[np.uint8]:
+    return np.asarray(np.clip(rgb * 255 + 0.5, 0, 255).astype(np.uint8))
 
 
 def write_png(path: str | os.PathLike[str], image: npt.ArrayLike) -> None:

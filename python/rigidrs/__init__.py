@@ -21,6 +21,7 @@ from ._core import (
     MassProperties,
     Particles,
     Plane,
+    Recording,
     RigidError,
     Scene,
     Shape,
@@ -36,12 +37,14 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from .view import Camera, render
 from .work_precision import accuracy
 
 __all__ = [
     "ARTICULATION_INTEGRATORS",
     "INTEGRATORS",
     "Bodies",
+    "Camera",
     "Box",
     "Capsule",
     "Compound",
@@ -53,6 +56,7 @@ __all__ = [
     "MassProperties",
     "Particles",
     "Plane",
+    "Recording",
     "RigidError",
     "Scene",
     "Shape",
@@ -68,4 +72,5 @@ __all__ = [
     "load",
     "mass_properties",
     "polar_decomposition",
+    "render",
 ]

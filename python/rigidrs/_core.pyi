@@ -1,4 +1,5 @@
 """Typed interface of the compiled core. SI units; quaternions (x, y, z, w)."""
+import os
 from os import PathLike
 from typing import Any, Sequence, TypeAlias, final
 
@@ -24,6 +25,7 @@ __all__ = [
     "MassProperties",
     "Particles",
     "Plane",
+    "Recording",
     "RigidError",
     "Scene",
     "Shape",
@@ -326,6 +328,8 @@ class Scene:
     @property
     def joint_count(self) -> int:
         """Number of joints added."""
+    def shapes(self) -> list[dict[str, Any] | None]:
+        """The bodies' shapes as ``World.shapes()`` will give them."""
     def build(
         self,
         dt: float,
@@ -660,9 +664,71 @@ class Particles:
         """(M,) collision radius (m); read-only."""
 
 @final
+class Recording:
+    """Body and particle trajectories captured while stepping (``World.record``) or loaded
+    from a file (``Recording.load``). Each array is a copy made on access: ``times`` (T,)
+    (s), ``steps`` (T,), ``position`` (T, N, 3) (m), ``orientation`` (T, N, 4) (x, y, z, w)
+    as in ``world.bodies``, ``particle_position`` (T, P, 3) (m; P = 0 without particles).
+    Memory: 8·(2 + 7·N + 3·P) bytes per frame (``nbytes``); while recording the buffers grow
+    by doubling, so up to twice that may be reserved."""
+
+    def __len__(self) -> int:
+        """Number of frames T."""
+    @property
+    def times(self) -> _F64:
+        """(T,) simulated time of each frame (s)."""
+    @property
+    def steps(self) -> npt.NDArray[np.int64]:
+        """(T,) the world's step count at each frame."""
+    @property
+    def position(self) -> _F64:
+        """(T, N, 3) body positions (centre of mass, world, m)."""
+    @property
+    def orientation(self) -> _F64:
+        """(T, N, 4) body orientations (x, y, z, w), as ``world.bodies.orientation``."""
+    @property
+    def particle_position(self) -> _F64:
+        """(T, P, 3) particle positions (world, m); P = 0 without particles."""
+    @property
+    def every(self) -> int:
+        """Steps between frames."""
+    @property
+    def attached(self) -> bool:
+        """Whether the world's steps are still being captured."""
+    @property
+    def nbytes(self) -> int:
+        """Bytes held by the frames: 8·T·(2 + 7·N + 3·P)."""
+    def detach(self) -> None:
+        """Stops capturing; the frames so far stay. Idempotent."""
+    def save(self, path: str | os.PathLike[str], compress: bool = False) -> None:
+        """Writes the frames to ``path`` (the name is kept as given) with ``numpy.savez``, or
+        ``numpy.savez_compressed`` with ``compress=True`` (default False; smaller when bodies
+        rest, slower), through a temporary file and a rename: on failure (missing directory,
+        no permission) ``OSError`` and no file left behind."""
+    @staticmethod
+    def load(path: str | os.PathLike[str]) -> Recording:
+        """Reads a file written by ``save``: ``FileNotFoundError`` if there is none,
+        ``ValueError`` if it is not a recording or is damaged."""
+
+@final
 class World:
     """A compiled scene: state arrays and the pipeline of stages the scene needs."""
 
+    def record(self, every: int = 1) -> Recording:
+        """Attaches a new ``Recording`` and returns it: the current state is its first frame,
+        then every ``every``-th step (default 1; each step of ``step(n)`` counts) adds one,
+        until ``rec.detach()``. Several may be attached at once. While one is attached,
+        ``step(n)`` runs its steps one by one (same results, bit for bit)."""
+    def shapes(self) -> list[dict[str, Any] | None]:
+        """Per body (None for a body without a shape): ``kind`` ("Sphere", "Box", "Capsule",
+        "Cylinder", "Cone", "ConvexHull", "TriMesh", "Plane", "Compound"), ``position`` (3,)
+        (m) and ``orientation`` (4,) (x, y, z, w) of the shape's frame in the body frame of
+        ``bodies.position``/``orientation`` (principal frame at the centre of mass), and its
+        dimensions in its own frame (m): ``radius``, ``half_height`` (axial shapes, axis z),
+        ``half_extents`` (3,), ``points`` (K, 3) plus the hull's ``vertices`` (V, 3) and
+        ``triangles`` (F, 3) (ConvexHull), ``vertices`` and ``triangles`` (TriMesh),
+        ``normal`` (3,) and ``offset`` (Plane: normal·x ≤ offset), ``parts`` (Compound:
+        dicts like these, posed in the compound's frame)."""
     def step(self, n: int = 1) -> None:
         """Advances ``n`` steps (GIL released). Raises ``StateError`` naming the body if a
         view was given an invalid state; then nothing moves. A step after which a body or

@@ -8,6 +8,8 @@ mod errors;
 mod joints;
 mod mass;
 mod polar;
+mod recording;
+mod shape_readback;
 mod particles;
 mod scene;
 mod shapes;
@@ -36,6 +38,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<joint_views::PyJoints>()?;
     m.add_class::<snapshot::PySnapshot>()?;
     m.add_function(wrap_pyfunction!(snapshot::load, m)?)?;
+    m.add_class::<recording::PyRecording>()?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;

@@ -20,11 +20,13 @@ pub struct PyWorld {
     pub inner: World,
     /// What puts the world back when a step fails (see `world::guard`).
     pub guard: Guard,
+    /// Recordings fed by `step` (see `recording`).
+    pub recorders: super::recording::Attached,
 }
 
 impl PyWorld {
     pub fn new(inner: World) -> Self {
-        Self { inner, guard: Guard::default() }
+        Self { inner, guard: Guard::default(), recorders: Default::default() }
     }
 }
 
@@ -46,7 +48,7 @@ impl PyWorld {
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
         let n = non_negative_int(n, "n")?;
-        let (w, guard) = (&mut self.inner, &mut self.guard);
+        let (w, guard, rec) = (&mut self.inner, &mut self.guard, &mut self.recorders);
         let mut signal: Option<PyErr> = None;
         let mut checked = Instant::now();
         let mut interrupted = || {
@@ -57,7 +59,14 @@ impl PyWorld {
             signal = Python::attach(|py| py.check_signals()).err();
             signal.is_some()
         };
-        let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.step_guarded(guard, n, &mut interrupted))));
+        let r = py.detach(|| {
+            catch_unwind(AssertUnwindSafe(|| {
+                let interrupted = std::cell::RefCell::new(&mut interrupted);
+                let mut run = |w: &mut World, k: u64| w.step_guarded(guard, k, &mut || (interrupted.borrow_mut())());
+                let mut between = || (interrupted.borrow_mut())();
+                rec.step(w, n, &mut run, &mut between)
+            }))
+        });
         match r {
             Ok(result) => result.py_err()?,
             Err(_) => {

@@ -37,7 +37,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
-from .view import Camera, render
+from .view import Camera, export_gltf, render
 from .work_precision import accuracy
 
 __all__ = [
@@ -69,6 +69,7 @@ __all__ = [
     "World",
     "__version__",
     "accuracy",
+    "export_gltf",
     "load",
     "mass_properties",
     "polar_decomposition",

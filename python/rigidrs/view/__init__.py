@@ -1,4 +1,5 @@
-"""Results out: pictures and meshes of a world or a recording (no display needed)."""
+"""Results out: pictures, meshes and glTF files of a world or a recording (no display needed)."""
+from .gltf import export_gltf
 from .render import Camera, render
 
-__all__ = ["Camera", "render"]
+__all__ = ["Camera", "export_gltf", "render"]

@@ -90,20 +90,7 @@ class _Scene:
     def __init__(self, shapes: Sequence[Mapping[str, Any] | None], fixed: npt.NDArray[np.bool_],
                  colors: Any, particle_radius: F64, detail: int) -> None:
         verts, tris, owner, planes = [], [], [], []
-        n = len(shapes)
-        base = np.array([FIXED if fixed[i] else PALETTE[i % len(PALETTE)] for i in range(n)]).reshape(n, 3)
-        if colors is not None:
-            if isinstance(colors, Mapping):
-                for i, c in colors.items():
-                    if not 0 <= int(i) < n:
-                        raise ValueError(f"colors: body {i} is out of range (the scene has {n} bodies)")
-                    base[int(i)] = _color(c)
-            else:
-                c = np.asarray(colors, dtype=float)
-                if c.ndim == 2 and len(c) != n:
-                    raise ValueError(f"colors must be (3,), ({n}, 3) or a dict {{body: colour}}, got shape {c.shape}")
-                base[:] = _color(c) if c.ndim == 1 else np.array([_color(x) for x in c]).reshape(n, 3)
-        self.color = base
+        self.color = body_colors(fixed, colors)
         offset = 0
         for i, d in enumerate(shapes):
             if d is None:
@@ -152,6 +139,25 @@ class _Scene:
             nw = rq @ n
             out.append((nw, float(nw @ origin + off)))
         return out
+
+
+def body_colors(fixed: npt.NDArray[np.bool_], colors: Any = None) -> F64:
+    """(N, 3) RGB in 0..1 per body: ``colors`` as :func:`render` takes it ((3,), (N, 3) or
+    {body: (3,)}, 0..1 or 0..255), default the palette with fixed bodies grey."""
+    n = len(fixed)
+    base = np.array([FIXED if fixed[i] else PALETTE[i % len(PALETTE)] for i in range(n)]).reshape(n, 3)
+    if colors is not None:
+        if isinstance(colors, Mapping):
+            for i, c in colors.items():
+                if not 0 <= int(i) < n:
+                    raise ValueError(f"colors: body {i} is out of range (the scene has {n} bodies)")
+                base[int(i)] = _color(c)
+        else:
+            c = np.asarray(colors, dtype=float)
+            if c.ndim == 2 and len(c) != n:
+                raise ValueError(f"colors must be (3,), ({n}, 3) or a dict {{body: colour}}, got shape {c.shape}")
+            base[:] = _color(c) if c.ndim == 1 else np.array([_color(x) for x in c]).reshape(n, 3)
+    return base
 
 
 def _color(c: Any) -> F64:

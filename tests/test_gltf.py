@@ -285,3 +285,46 @@ def test_a_failure_while_writing_leaves_no_file(tmp_path: Path, monkeypatch: pyt
         rr.export_gltf(world, rec, path)
     monkeypatch.undo()
     assert os.listdir(tmp_path) == ["run.glb"] and path.read_bytes() == b"old"
+
+
+def test_hulls_meshes_compounds_and_shapeless_bodies(tmp_path: Path) -> None:
+    cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    tet_v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    tet_t = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    s = rr.Scene()
+    s.add_body(rr.ConvexHull(0.1 * cube + [0.0, 0.0, 0.05]), density=500.0, position=(0, 0, 1))
+    s.add_body(rr.TriMesh(tet_v, tet_t), fixed=True, position=(1, 0, 0))
+    s.add_body(rr.Compound([(rr.Sphere(0.1), (0.2, 0, 0)), (rr.Box((0.1, 0.1, 0.1)), (-0.2, 0, 0))]),
+               density=500.0, position=(0, 1, 1))
+    s.add_body(mass=2.0, inertia=(0.1, 0.2, 0.3), position=(0, 0, 3))
+    world = s.build(dt=1 / 60)
+    rec = world.record()
+    world.step(5)
+    path = rr.export_gltf(world, rec, tmp_path / "mix.glb", detail=0)
+    g = pygltflib.GLTF2().load(str(path))
+    nodes = body_nodes(g)
+    assert len(nodes) == 4 and nodes[3].mesh is None
+    assert len(g.animations[0].channels) == 8
+    shapes = world.shapes()
+    for i in (0, 1):
+        prim = g.meshes[nodes[i].mesh].primitives[0]
+        v = read(g, prim.attributes.POSITION).astype(float)
+        local = Rotation.from_quat(shapes[i]["orientation"]).apply(shapes[i]["vertices"]) + shapes[i]["position"]
+        assert np.allclose(v, local, atol=1e-6)  # as they are, in the body frame
+        assert len(read(g, prim.indices)) == 3 * len(shapes[i]["triangles"])
+    # The trimesh is double-sided, the hull is not.
+    mats = [g.materials[g.meshes[nodes[i].mesh].primitives[0].material] for i in (0, 1)]
+    assert not mats[0].doubleSided and mats[1].doubleSided
+    # The compound: both parts in one mesh; in the world frame (rest pose, the compound's
+    # frame at (0, 1, 1)) the box spans x in [-0.3, -0.1], y and z ±0.1, and the sphere's
+    # vertices lie 0.1 from (0.2, 1, 1).
+    prim = g.meshes[nodes[2].mesh].primitives[0]
+    v = read(g, prim.attributes.POSITION).astype(float)
+    w = Rotation.from_quat(rec.orientation[0, 2]).apply(v) + rec.position[0, 2] - (0.0, 1.0, 1.0)
+    box, ball = w[w[:, 0] < -0.05], w[w[:, 0] >= -0.05]
+    assert len(box) == 8 and len(ball) == 12
+    assert np.allclose(box.min(0), [-0.3, -0.1, -0.1], atol=1e-6)
+    assert np.allclose(box.max(0), [-0.1, 0.1, 0.1], atol=1e-6)
+    assert np.allclose(np.linalg.norm(ball - (0.2, 0, 0), axis=1), 0.1, atol=1e-6)
+    sc = trimesh.load(path)
+    assert len(sc.geometry) == 3

@@ -328,3 +328,32 @@ def test_hulls_meshes_compounds_and_shapeless_bodies(tmp_path: Path) -> None:
     assert np.allclose(np.linalg.norm(ball - (0.2, 0, 0), axis=1), 0.1, atol=1e-6)
     sc = trimesh.load(path)
     assert len(sc.geometry) == 3
+
+
+def test_blender_imports_the_animation(tmp_path: Path) -> None:
+    """Blender's own glTF importer (``pip install bpy``, Blender as a module; skipped
+    without it): Blender is z-up, so after its y-up conversion the box's vertices at
+    each frame are the recording's, in rigidrs coordinates (to float32 precision), and the
+    ground lies at z = 0. (Run with bpy 4.2.23 on Python 3.11 while this was written.)"""
+    bpy = pytest.importorskip("bpy", reason="Blender as a module: pip install bpy (matching the Python version)")
+    world, rec = recorded(steps=60, every=4)  # 30 frames per simulated second
+    path = rr.export_gltf(world, rec, tmp_path / "run.glb")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    sc.render.fps = 30
+    assert bpy.ops.import_scene.gltf(filepath=str(path)) == {"FINISHED"}
+    objs = {o.name: o for o in bpy.data.objects}
+    assert {"ground", "box"} <= set(objs)
+    shape = world.shapes()[1]
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * HALF
+    local = Rotation.from_quat(shape["orientation"]).apply(corners) + shape["position"]
+    box = objs["box"]
+    for k in range(len(rec.times)):
+        sc.frame_set(k)  # frame k is time k / 30 s
+        m = np.array(box.matrix_world)
+        got = np.array([tuple(v.co) for v in box.data.vertices]) @ m[:3, :3].T + m[:3, 3]
+        want = Rotation.from_quat(rec.orientation[k, 1]).apply(local) + rec.position[k, 1]
+        assert np.sqrt(((got[:, None] - want[None]) ** 2).sum(-1)).min(1).max() < 1e-6
+    ground = objs["ground"]
+    gz = [(ground.matrix_world @ v.co).z for v in ground.data.vertices]
+    assert np.allclose(gz, 0.0, atol=2e-6)  # Blender's float32 over corners 4.5 m out

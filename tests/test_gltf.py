@@ -357,3 +357,12 @@ def test_blender_imports_the_animation(tmp_path: Path) -> None:
     ground = objs["ground"]
     gz = [(ground.matrix_world @ v.co).z for v in ground.data.vertices]
     assert np.allclose(gz, 0.0, atol=2e-6)  # Blender's float32 over corners 4.5 m out
+
+
+def test_colours_are_stored_linear(tmp_path: Path) -> None:
+    """glTF's baseColorFactor is linear RGB; ``colors`` (like the renderer's) are sRGB."""
+    path = rr.export_gltf(scene(), tmp_path / "c.glb", colors={1: (0.5, 0.0, 1.0)})
+    g = pygltflib.GLTF2().load(str(path))
+    box = body_nodes(g)[1]
+    factor = g.materials[g.meshes[box.mesh].primitives[0].material].pbrMetallicRoughness.baseColorFactor
+    assert factor == pytest.approx([((0.5 + 0.055) / 1.055) ** 2.4, 0.0, 1.0, 1.0], abs=1e-12)

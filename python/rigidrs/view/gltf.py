@@ -19,8 +19,9 @@ What is in the file:
   square of ground (``ground_size``) around the bodies. A body without a shape has a
   node and no mesh. No normals are written: glTF readers then shade flat, which is
   right for boxes and hulls (and keeps the file small).
-* One material per colour (``colors`` as in :func:`rigidrs.render`: a palette by
-  default, fixed bodies grey); triangle meshes and the ground are double-sided.
+* One material per colour (``colors`` as in :func:`rigidrs.render`, sRGB: a palette by
+  default, fixed bodies grey), stored linear as glTF's ``baseColorFactor`` wants it, so
+  viewers show the renderer's colours; triangle meshes and the ground are double-sided.
 * With a recording, one animation: per body a translation and a rotation channel,
   LINEAR, sampled at ``rec.times`` (s, float32, as recorded). Consecutive quaternions
   are sign-aligned so that interpolation takes the short way. Without a recording
@@ -44,7 +45,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .mesh import F64, I64, quat_matrix, shape_mesh
-from .render import _atomic, _bounds, _source, body_colors
+from .render import PARTICLE, _atomic, _bounds, _source, body_colors
 
 FORMATS = (".glb", ".gltf")
 ROOT_ROTATION = (-0.5**0.5, 0.0, 0.0, 0.5**0.5)
@@ -179,7 +180,10 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
     n = len(shapes)
     times, pos, quat, parts = _poses(world, n, rec)
     fixed = ~(np.asarray(world.bodies.inverse_mass) > 0)
-    color = body_colors(fixed, colors)
+    # The palette and ``colors`` are sRGB (as the renderer shows them); glTF's
+    # baseColorFactor is linear: convert, so that viewers show the same colours.
+    srgb = body_colors(fixed, colors)
+    color = _linear(srgb)
     names = list(world.bodies.names)
     has_particles = particles and parts.shape[1] > 0
     lo, hi = _bounds(shapes, pos, quat, parts if has_particles else None)
@@ -197,7 +201,7 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
     materials: list[dict[str, Any]] = []
     material_index: dict[tuple[Any, ...], int] = {}
 
-    def material(rgb: Sequence[float], double: bool, name: str) -> int:
+    def material(rgb: Sequence[float] | F64, double: bool, name: str) -> int:
         key = (*(round(float(x), 6) for x in rgb), double)
         if key not in material_index:
             materials.append({"name": name, "doubleSided": double, "pbrMetallicRoughness": {
@@ -252,7 +256,7 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
         group: dict[str, Any] = {"name": "particles", "children": []}
         nodes[0]["children"].append(len(nodes))
         nodes.append(group)
-        pmat = material((0.92, 0.92, 0.95), False, "particles")
+        pmat = material(_linear(PARTICLE), False, "particles")
         frames = len(parts)
         for k in range(frames):
             acc = b.accessor(parts[k].astype(np.float32), "VEC3", _ARRAY_BUFFER, bounds=True)
@@ -293,6 +297,12 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
         data = json.dumps(doc, separators=(",", ":")).encode()
     _atomic(path, lambda tmp: tmp.write_bytes(data))
     return path
+
+
+def _linear(srgb: F64) -> F64:
+    """sRGB (0..1) to linear RGB, the sRGB transfer function inverted."""
+    c = np.asarray(srgb, dtype=float)
+    return np.asarray(np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4))
 
 
 def _glb(doc: Mapping[str, Any], blob: bytes) -> bytes:

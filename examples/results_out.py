@@ -35,6 +35,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default="docs/results_out.png")
     ap.add_argument("--gif", default=None)
+    ap.add_argument("--gltf", default=None, help="also keep the animated glTF here (.glb or .gltf)")
     ap.add_argument("--seconds", type=float, default=3.0)
     ap.add_argument("--at", type=float, default=1.0, help="time of the picture (s)")
     args = ap.parse_args()
@@ -58,6 +59,9 @@ def main() -> None:
     t0 = time.perf_counter()
     rr.render(world, rec, args.out, frame=k, camera=camera, antialias=2)
     print(f"wrote {args.out} (t = {rec.times[k]:.2f} s) in {time.perf_counter() - t0:.2f} s")
+    if args.gltf:
+        rr.export_gltf(world, rec, args.gltf)
+        print(f"wrote {args.gltf}")
     if args.gif:
         rr.render(world, rec, args.gif, camera=camera, size=(480, 360), fps=30)
         print(f"wrote {args.gif}")

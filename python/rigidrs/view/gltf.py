@@ -204,7 +204,7 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
     def material(rgb: Sequence[float] | F64, double: bool, name: str) -> int:
         key = (*(round(float(x), 6) for x in rgb), double)
         if key not in material_index:
-            materials.append({"name": name, "doubleSided": double, "pbrMetallicRoughness": {
+            materials.append({"name": f"{name} {len(materials)}", "doubleSided": double, "pbrMetallicRoughness": {
                 "baseColorFactor": [*(float(x) for x in rgb), 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}})
             material_index[key] = len(materials) - 1
         return material_index[key]
@@ -226,7 +226,7 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
             double = d["kind"] in ("Plane", "TriMesh")
             if len(t):
                 geo = b.geometry(v, t)
-                mat = material(color[i], double, f"body {i} colour")
+                mat = material(color[i], double, "colour")
                 if (*geo, mat) not in mesh_index:
                     meshes.append({"name": d["kind"], "primitives": [{
                         "attributes": {"POSITION": geo[0]}, "indices": geo[1], "material": mat, "mode": _TRIANGLES}]})

@@ -139,18 +139,9 @@ mod tests {
     use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
     use parry3d_f64::shape::{Cuboid, SharedShape};
 
-    /// A hexagonal prism (corners 0.4 m from its axis, 0.6 m tall) 1 mm above the
-    /// top face of a box, face down: parry's manifold and the completed one.
-    fn hex_on_box(turn: f64) -> (Manifold, Manifold) {
-        let corners: Vec<Point3<f64>> = (0..6)
-            .flat_map(|k| {
-                let a = turn + k as f64 * std::f64::consts::FRAC_PI_3;
-                [-0.3, 0.3].map(|z| Point3::new(0.4 * a.cos(), 0.4 * a.sin(), z))
-            })
-            .collect();
-        let hull = SharedShape::convex_hull(&corners).unwrap();
-        let slab = SharedShape::new(Cuboid::new(nalgebra::Vector3::new(3.0, 3.0, 0.5)));
-        let collider = |shape: SharedShape| Collider {
+    /// A collider of body 0 at the origin, for the shapes of these tests.
+    fn test_collider(shape: SharedShape) -> Collider {
+        Collider {
             body: 0,
             many_cornered: many_cornered(shape.as_ref()),
             shape,
@@ -162,8 +153,21 @@ mod tests {
             ccd: false,
             ball: None,
             corners: Default::default(),
-        };
-        let (c1, c2) = (collider(slab), collider(hull));
+        }
+    }
+
+    /// A hexagonal prism (corners 0.4 m from its axis, 0.6 m tall) 1 mm above the
+    /// top face of a box, face down: parry's manifold and the completed one.
+    fn hex_on_box(turn: f64) -> (Manifold, Manifold) {
+        let corners: Vec<Point3<f64>> = (0..6)
+            .flat_map(|k| {
+                let a = turn + k as f64 * std::f64::consts::FRAC_PI_3;
+                [-0.3, 0.3].map(|z| Point3::new(0.4 * a.cos(), 0.4 * a.sin(), z))
+            })
+            .collect();
+        let hull = SharedShape::convex_hull(&corners).unwrap();
+        let slab = SharedShape::new(Cuboid::new(nalgebra::Vector3::new(3.0, 3.0, 0.5)));
+        let (c1, c2) = (test_collider(slab), test_collider(hull));
         assert!(c2.many_cornered && !c1.many_cornered);
         let pos12 = Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.5 + 0.3 + 0.001), Default::default());
         let mut manifolds: Vec<Manifold> = Vec::new();
@@ -211,20 +215,7 @@ mod tests {
         let box_corners: Vec<Point3<f64>> =
             (0..8).map(|k| Point3::new(if k & 1 == 0 { -3.0 } else { 3.0 }, if k & 2 == 0 { -3.0 } else { 3.0 }, if k & 4 == 0 { -0.5 } else { 0.5 })).collect();
         let slab = SharedShape::convex_hull(&box_corners).unwrap();
-        let collider = |shape: SharedShape| Collider {
-            body: 0,
-            many_cornered: many_cornered(shape.as_ref()),
-            shape,
-            local: Isometry3::identity(),
-            material: Default::default(),
-            filter: Default::default(),
-            infinite: false,
-            reach: 1.0,
-            ccd: false,
-            ball: None,
-            corners: Default::default(),
-        };
-        let (c1, c2) = (collider(slab), collider(hull));
+        let (c1, c2) = (test_collider(slab), test_collider(hull));
         for (k, eps) in (0..400).map(|k| (k, (k % 9) as f64 * 2.7e-17 - 1.1e-16)) {
             let yaw = nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), 0.013 * k as f64);
             let shift = Translation3::new(0.37 * (k as f64).sin(), 0.21 * (k as f64).cos(), 0.5 + 0.3 + eps);

@@ -323,7 +323,12 @@ impl Approach {
     /// An upper bound of the speed at which the two shapes approach over the step
     /// (m/s). Bodies falling side by side do not approach, whatever their speed.
     pub(super) fn bound(&self, dt: f64) -> f64 {
-        (self.velocity + self.accel * dt).norm() + self.turning
+        self.velocity_after(dt).norm() + self.turning
+    }
+
+    /// The relative velocity at the end of the step (m/s).
+    pub(super) fn velocity_after(&self, dt: f64) -> Vec3 {
+        self.velocity + self.accel * dt
     }
 }
 

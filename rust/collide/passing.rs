@@ -29,8 +29,7 @@ const SWEEP_ABOVE: f64 = 4.0;
 /// unchanged unless a sweep shows the shapes pass clear.
 pub(super) fn narrowed(c1: &Collider, c2: &Collider, bodies: &Bodies, pred: &Prediction, approach: &Approach, prediction: f64) -> f64 {
     let dt = pred.dt;
-    let end = approach.velocity + approach.accel * dt;
-    if dt * end.norm() <= SWEEP_ABOVE * pred.margin || !(sweepable(c1) && sweepable(c2)) {
+    if dt * approach.velocity_after(dt).norm() <= SWEEP_ABOVE * pred.margin || !(sweepable(c1) && sweepable(c2)) {
         return prediction;
     }
     // A linear sweep at the mean velocity ends where the accelerated path ends and

@@ -45,7 +45,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .mesh import F64, I64, quat_matrix, shape_mesh
-from .render import PARTICLE, _atomic, _bounds, _source, body_colors
+from .render import PARTICLE, _atomic, _bounds, _source, _writable_folder, body_colors
 
 FORMATS = (".glb", ".gltf")
 ROOT_ROTATION = (-0.5**0.5, 0.0, 0.0, 0.5**0.5)
@@ -166,11 +166,7 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
     suffix = path.suffix.lower()
     if suffix not in FORMATS:
         raise ValueError(f"cannot write {path}: unknown format {path.suffix!r}; use one of {', '.join(FORMATS)}")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise FileNotFoundError(f"cannot write {path}: the directory {folder} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise PermissionError(f"cannot write {path}: the directory {folder} is not writable")
+    _writable_folder(path)
     if detail not in (0, 1, 2, 3):
         raise ValueError(f"detail must be 0, 1, 2 or 3, got {detail!r}")
     if ground_size is not None and not (np.isfinite(ground_size) and ground_size > 0):

@@ -391,6 +391,17 @@ def write_png(path: str | os.PathLike[str], image: npt.ArrayLike) -> None:
     _atomic(Path(path), lambda tmp: tmp.write_bytes(png))
 
 
+def _writable_folder(path: Path) -> Path:
+    """The folder ``path`` would be written in, after checking that it exists and is
+    writable (so a bad path fails before anything is drawn or encoded)."""
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise FileNotFoundError(f"cannot write {path}: the directory {folder} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise PermissionError(f"cannot write {path}: the directory {folder} is not writable")
+    return folder
+
+
 def _atomic(path: Path, write: Any) -> None:
     """Calls ``write(tmp)`` for a temporary file next to ``path`` (same suffix), then renames
     it to ``path``; on any failure the temporary file is removed and ``OSError`` names the path."""
@@ -491,11 +502,7 @@ def render(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = N
                     import imageio_ffmpeg  # type: ignore[import-untyped]  # noqa: F401
                 except ImportError as e:
                     raise ImportError('writing MP4 needs imageio-ffmpeg: pip install "rigidrs[video]"') from e
-        folder = path.parent if str(path.parent) else Path(".")
-        if not folder.is_dir():
-            raise FileNotFoundError(f"cannot write {path}: the directory {folder} does not exist")
-        if not os.access(folder, os.W_OK):
-            raise PermissionError(f"cannot write {path}: the directory {folder} is not writable")
+        _writable_folder(path)
     if antialias not in (1, 2, 3, 4):
         raise ValueError(f"antialias must be 1, 2, 3 or 4, got {antialias!r}")
     if not (fps > 0 and np.isfinite(fps)) or not (speed > 0 and np.isfinite(speed)):

@@ -93,6 +93,8 @@ class Problem(ABC):
     ceiling: ClassVar[float] = 0.3
     # Extra metrics measured besides the error: key -> description.
     extras: ClassVar[dict[str, str]] = {}
+    # Whether the world may sleep (a resting scene measured at rest must not).
+    sleep: ClassVar[bool] = True
 
     @abstractmethod
     def methods(self, cfg: Config) -> list[Method]:
@@ -124,7 +126,7 @@ class Problem(ABC):
             dt=point.dt, integrator=method.integrator, substeps=1 if articulated else point.substeps,
             iterations=method.iterations, max_rotation_angle=method.max_rotation_angle,
             articulation_integrator=method.articulation_integrator or "leapfrog",
-            articulation_substeps=point.substeps if articulated else None,
+            articulation_substeps=point.substeps if articulated else None, sleep=self.sleep,
         )
         world.profiling = False
         return world

@@ -172,6 +172,7 @@ class Tower(ContactProblem):
     extras = {"sag": "|top − N a| at the end (m)", "tilt": "largest tilt (rad)",
               "settling": "worst load error of the first 0.3 s"}
     duration = 0.6
+    sleep = False
     cubes, side = 30, 0.2
 
     def methods(self, cfg: Config) -> list[Method]:
@@ -185,12 +186,6 @@ class Tower(ContactProblem):
                 scene.add_body(Box((self.side / 2,) * 3), density=1000.0,
                                position=(2.0 * c, 0.0, self.side / 2 + i * self.side))
         return scene
-
-    def build(self, method: Method, point: Point, copies: int = 1) -> World:
-        world = self.scene(copies).build(dt=point.dt, integrator=method.integrator, substeps=point.substeps,
-                                         iterations=method.iterations, sleep=False)
-        world.profiling = False
-        return world
 
     def load_error(self, world: World, dt: float) -> float:
         c = world.contacts()
@@ -230,6 +225,7 @@ class SpinningPlate(ContactProblem):
                  "placed inside its step by the deceleration of the steps before (as in "
                  "tests/test_patch_friction.py); T = 0.5 s")
     targets = (1e-2, 1e-6)
+    sleep = False
     floor = 1e-9
     extras = {"drift": "distance the centre moved (m)"}
     duration = 0.5
@@ -252,12 +248,6 @@ class SpinningPlate(ContactProblem):
             scene.add_body(Box((self.half, self.half, thick)), density=500.0, position=(2.0 * k, 0.0, thick),
                            friction=self.mu, angular_velocity=(0.0, 0.0, self.omega0))
         return scene
-
-    def build(self, method: Method, point: Point, copies: int = 1) -> World:
-        world = self.scene(copies).build(dt=point.dt, integrator=method.integrator, substeps=point.substeps,
-                                         iterations=method.iterations, sleep=False)
-        world.profiling = False
-        return world
 
     def measure(self, world: World, point: Point) -> Metrics:
         p0 = world.bodies.position[1].copy()

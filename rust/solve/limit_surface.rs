@@ -206,7 +206,10 @@ pub fn onto(f: [f64; 2], tau: f64, mu_n: f64, lever: f64) -> ([f64; 2], f64) {
 /// Area and `∫ |r| dA` of the triangle (0, a, b), exactly: in polar coordinates
 /// about the origin the triangle is `0 ≤ ρ ≤ d / cos(θ − φ)`, `d` the distance
 /// of the edge ab from the origin and `φ` its direction, so
-/// `∫ |r| dA = (d³/3) ∫ sec³(θ − φ) dθ`.
+/// `∫ |r| dA = (d³/3) ∫ sec³(θ − φ) dθ`. With `t = tan(θ − φ)`, the position
+/// along the edge from the foot of the perpendicular over `d`, the primitive is
+/// `½ (t √(1 + t²) + asinh t)`: no angle is needed (atan, sin_cos and ln took
+/// 10 % of a pyramid's step, once per patch and step).
 fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
     let cross = a[0] * b[1] - a[1] * b[0];
     let area = 0.5 * cross;
@@ -220,19 +223,24 @@ fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
         // The edge passes (nearly) through the origin: no area to speak of.
         return (area, 0.0);
     }
-    // Signed angles of a and b from the foot of the perpendicular on the edge.
+    // Signed positions of a and b along the edge from the foot of the
+    // perpendicular, over d.
     let foot = [-e[1] * cross / (len * len), e[0] * cross / (len * len)];
-    let along = |p: [f64; 2]| {
-        let dir = [e[0] / len, e[1] / len];
-        let x = (p[0] - foot[0]) * dir[0] + (p[1] - foot[1]) * dir[1];
-        (x / d).atan()
-    };
-    let sec3 = |x: f64| {
-        let (s, c) = x.sin_cos();
-        0.5 * (s / (c * c) + ((1.0 + s) / c).ln())
+    let along = |p: [f64; 2]| ((p[0] - foot[0]) * e[0] + (p[1] - foot[1]) * e[1]) / (len * d);
+    let sec3 = |t: f64| {
+        let root = (1.0 + t * t).sqrt();
+        0.5 * (t * root + asinh(t, root))
     };
     let integral = d * d * d / 3.0 * (sec3(along(b)) - sec3(along(a)));
     (area, integral.abs() * area.signum())
+}
+
+/// `asinh t` given `root = √(1 + t²)`, accurate near 0 (`ln_1p`) without the
+/// `hypot` of `f64::asinh`.
+#[inline(always)]
+fn asinh(t: f64, root: f64) -> f64 {
+    let x = t.abs();
+    (x + x * x / (1.0 + root)).ln_1p().copysign(t)
 }
 
 /// Mean distance from the origin of the points of the segment ab.

@@ -1,4 +1,4 @@
-//! Collision detection: colliders, the broad phase (sweep and prune), the narrow
+//! Collision detection: colliders, the broad phase (sweep and prune in columns), the narrow
 //! phase (parry's persistent contact manifolds) and continuous collision detection.
 
 pub mod broad_phase;
@@ -9,6 +9,7 @@ pub mod face_points;
 pub mod material;
 pub mod narrow_phase;
 mod passing;
+pub mod sweep_and_prune;
 pub mod plane_hull;
 
 pub use collider::{Collider, Filter};

@@ -15,7 +15,8 @@
 //! Whether a patch sticks is judged on the ellipsoid `|f|²/(μN)² + τ²/(μN r̄)² ≤ 1`
 //! that touches the limit surface at pure sliding and pure spin (Howe and
 //! Cutkosky, 1996); a sliding patch takes the exact force and torque of its slip,
-//! by quadrature over the patch when both its sliding and its spin count.
+//! integrated in closed form over the patch when both its sliding and its spin
+//! count.
 
 /// `sqrt(x² + y²)` (libm's `hypot` guards against overflow at several times the
 /// cost; contact quantities are far from it).
@@ -26,12 +27,6 @@ fn norm2(x: f64, y: f64) -> f64 {
 
 /// Most corners a patch's polygon keeps.
 pub const MAX_VERTICES: usize = 8;
-
-/// Subdivisions per side of each triangle of the patch in the quadrature
-/// (`QUAD²` points a triangle): the force and torque of a sliding, spinning
-/// patch to ~0.1 % (the integrand is bounded, with a kink at the centre of
-/// rotation).
-const QUAD: usize = 12;
 
 /// Ratio of sliding to spin (`|v| / (r̄ |ω|)`) beyond which a patch is taken to
 /// slide or spin only, and its friction is the closed form of that limit.
@@ -138,43 +133,92 @@ impl PatchShape {
         ([-mu_n * f[0], -mu_n * f[1]], -mu_n * t)
     }
 
-    /// `⟨u/|u|⟩` and `⟨r × u/|u|⟩` over the patch, `u = v + ω × r`.
+    /// `⟨u/|u|⟩` and `⟨r × u/|u|⟩` over the patch, `u = v + ω × r`, exactly.
+    ///
+    /// The patch turns about its instantaneous centre `c = ẑ × v / ω`:
+    /// `u = ω ẑ × (r − c)`, so with `e = (r − c)/|r − c|` the two means are
+    /// `sgn ω · ẑ × ⟨e⟩` and `sgn ω · (⟨|r − c|⟩ + c·⟨e⟩)`; both integrals have
+    /// closed forms over the triangles of a fan from `c` (see [`fan_triangle`]).
+    /// A quadrature of 1152 points did this to 0.1 % at 200 times the cost: half
+    /// the step of a pile of tumbling boxes.
     fn integrate(&self, v: [f64; 2], w: f64) -> ([f64; 2], f64) {
-        let unit = |r: [f64; 2]| {
-            let u = [v[0] - w * r[1], v[1] + w * r[0]];
-            let n = norm2(u[0], u[1]);
-            if n > 0.0 {
-                [u[0] / n, u[1] / n]
-            } else {
-                [0.0; 2]
-            }
-        };
-        // Sums of u/|u|, r × u/|u| and the weights.
-        let mut acc = [0.0; 4];
-        let mut add = |r: [f64; 2], weight: f64| {
-            let u = unit(r);
-            acc[0] += weight * u[0];
-            acc[1] += weight * u[1];
-            acc[2] += weight * (r[0] * u[1] - r[1] * u[0]);
-            acc[3] += weight;
-        };
-        let c = self.corners();
-        let mut area = 0.0;
-        if c.len() >= 3 {
-            for k in 0..c.len() {
-                area += triangle_points(c[k], c[(k + 1) % c.len()], &mut add);
+        let c = [-v[1] / w, v[0] / w];
+        let k = self.corners();
+        let (mut area, mut e, mut dist) = (0.0, [0.0; 2], 0.0);
+        if k.len() >= 3 {
+            for i in 0..k.len() {
+                let (a, b) = (k[i], k[(i + 1) % k.len()]);
+                let (ta, te, td) = fan_triangle([a[0] - c[0], a[1] - c[1]], [b[0] - c[0], b[1] - c[1]]);
+                area += ta;
+                e = [e[0] + te[0], e[1] + te[1]];
+                dist += td;
             }
         }
-        if area <= 0.0 {
-            let (a, b) = if c.len() >= 2 { self.farthest_pair() } else { ([0.0; 2], [0.0; 2]) };
-            for i in 0..QUAD * QUAD {
-                let s = (i as f64 + 0.5) / (QUAD * QUAD) as f64;
-                add([a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])], 1.0);
-            }
+        if !(area > 0.0) {
+            let (a, b) = if k.len() >= 2 { self.farthest_pair() } else { ([0.0; 2], [0.0; 2]) };
+            (area, e, dist) = segment_from([a[0] - c[0], a[1] - c[1]], [b[0] - c[0], b[1] - c[1]]);
         }
-        let total = acc[3];
-        ([acc[0] / total, acc[1] / total], acc[2] / total)
+        if !(area > 0.0) {
+            return ([0.0; 2], 0.0);
+        }
+        let (e, dist) = ([e[0] / area, e[1] / area], dist / area);
+        let sign = w.signum();
+        ([-sign * e[1], sign * e[0]], sign * (dist + c[0] * e[0] + c[1] * e[1]))
     }
+}
+
+/// Signed area, `∫ r/|r| dA` and `∫ |r| dA` of the triangle (0, a, b) (signed
+/// by its orientation). About the foot `d n̂` of the perpendicular from the
+/// origin on the edge, a point of the edge is `d n̂ + x ê`; with `t = x/d` the
+/// direction `(cos θ, sin θ)` at angle `θ = atan t` from `n̂`, reaching
+/// `ρ = d/cos θ`, so `∫ r/|r| dA = (d²/2) ∫ (sec θ, sec θ tan θ) dθ
+/// = (d²/2) [asinh t, √(1 + t²)]` in (`n̂`, `ê`), and `∫ |r| dA` as in
+/// [`triangle_from_origin`].
+fn fan_triangle(a: [f64; 2], b: [f64; 2]) -> (f64, [f64; 2], f64) {
+    let cross = a[0] * b[1] - a[1] * b[0];
+    let area = 0.5 * cross;
+    let ed = [b[0] - a[0], b[1] - a[1]];
+    let len = norm2(ed[0], ed[1]);
+    if len == 0.0 || cross == 0.0 {
+        return (area, [0.0; 2], 0.0);
+    }
+    let d = cross.abs() / len;
+    if d <= 1e-6 * len {
+        return (area, [0.0; 2], 0.0);
+    }
+    let et = [ed[0] / len, ed[1] / len];
+    let foot = [ed[1] * cross / (len * len), -ed[0] * cross / (len * len)];
+    let nt = [foot[0] / d, foot[1] / d];
+    let along = |p: [f64; 2]| ((p[0] - foot[0]) * et[0] + (p[1] - foot[1]) * et[1]) / d;
+    let (ta, tb) = (along(a), along(b));
+    let (ra, rb) = ((1.0 + ta * ta).sqrt(), (1.0 + tb * tb).sqrt());
+    let sec3 = |t: f64, root: f64| 0.5 * (t * root + asinh(t, root));
+    let sign = cross.signum();
+    let (n_part, e_part) = (0.5 * d * d * (asinh(tb, rb) - asinh(ta, ra)), 0.5 * d * d * (rb - ra));
+    let e = [sign * (n_part * nt[0] + e_part * et[0]), sign * (n_part * nt[1] + e_part * et[1])];
+    let dist = sign * d * d * d / 3.0 * (sec3(tb, rb) - sec3(ta, ra));
+    (area, e, dist)
+}
+
+/// Length, `∫ r/|r| ds` and `∫ |r| ds` of the segment ab (a patch with no area:
+/// its points in a line).
+fn segment_from(a: [f64; 2], b: [f64; 2]) -> (f64, [f64; 2], f64) {
+    let ed = [b[0] - a[0], b[1] - a[1]];
+    let len = norm2(ed[0], ed[1]);
+    if len == 0.0 {
+        return (0.0, [0.0; 2], 0.0);
+    }
+    let et = [ed[0] / len, ed[1] / len];
+    let xa = a[0] * et[0] + a[1] * et[1];
+    // Signed distance of the line from the origin along n̂ = ẑ × ê.
+    let d = et[0] * a[1] - et[1] * a[0];
+    let nt = [-et[1], et[0]];
+    let root = |x: f64| norm2(x, d);
+    let (xb, ra, rb) = (xa + len, root(xa), root(xa + len));
+    let n_part = if d != 0.0 { d * ((xa + len) / d.abs()).asinh() - d * (xa / d.abs()).asinh() } else { 0.0 };
+    let e = [n_part * nt[0] + (rb - ra) * et[0], n_part * nt[1] + (rb - ra) * et[1]];
+    let prim = |x: f64, r: f64| 0.5 * (x * r + if d != 0.0 { d * d * (x / d.abs()).asinh() } else { 0.0 });
+    (len, e, prim(xb, rb) - prim(xa, ra))
 }
 
 /// Whether force `f` and torque `tau` fit the friction limit `mu_n` of a patch
@@ -225,7 +269,7 @@ fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
     }
     // Signed positions of a and b along the edge from the foot of the
     // perpendicular, over d.
-    let foot = [-e[1] * cross / (len * len), e[0] * cross / (len * len)];
+    let foot = [e[1] * cross / (len * len), -e[0] * cross / (len * len)];
     let along = |p: [f64; 2]| ((p[0] - foot[0]) * e[0] + (p[1] - foot[1]) * e[1]) / (len * d);
     let sec3 = |t: f64| {
         let root = (1.0 + t * t).sqrt();
@@ -256,27 +300,6 @@ fn segment_mean_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = (a[0] * dir[1] - a[1] * dir[0]).abs();
     let prim = |x: f64| 0.5 * (x * norm2(x, d) + if d > 0.0 { d * d * (x / d).asinh() } else { 0.0 });
     (prim(xa + len) - prim(xa)) / len
-}
-
-/// Calls `add(point, weight)` at the centroids of the `QUAD²` equal sub-triangles
-/// of the triangle (0, a, b) (a centroid rule on each; weights are areas);
-/// returns its area.
-fn triangle_points(a: [f64; 2], b: [f64; 2], add: &mut impl FnMut([f64; 2], f64)) -> f64 {
-    let area = 0.5 * (a[0] * b[1] - a[1] * b[0]).abs();
-    let w = area / (QUAD * QUAD) as f64;
-    let n = QUAD as f64;
-    let at = |i: f64, j: f64| [(i * a[0] + j * b[0]) / n, (i * a[1] + j * b[1]) / n];
-    for i in 0..QUAD {
-        for j in 0..QUAD - i {
-            let (fi, fj) = (i as f64, j as f64);
-            // The upward sub-triangle (i, j), (i+1, j), (i, j+1) of the grid.
-            add(at(fi + 1.0 / 3.0, fj + 1.0 / 3.0), w);
-            if i + j + 1 < QUAD {
-                add(at(fi + 2.0 / 3.0, fj + 2.0 / 3.0), w);
-            }
-        }
-    }
-    area
 }
 
 /// Convex hull of a few points (at most 2·[`MAX_VERTICES`] are looked at),
@@ -382,5 +405,80 @@ mod tests {
         assert!((f[0] - gf[0] / k).abs() <= 1e-3 && (f[1] - gf[1] / k).abs() <= 1e-3, "{f:?} vs {:?}", [gf[0] / k, gf[1] / k]);
         assert!((t - gt / k).abs() <= 1e-3 * s.lever, "{t} vs {}", gt / k);
         assert!(f[0].hypot(f[1]) < 0.9 && t.abs() < 0.9 * s.lever);
+    }
+
+    /// The means of `integrate` by a centroid rule on 80² sub-triangles of each
+    /// triangle (error ~1e-4 at the kink where u = 0, ~1e-6 elsewhere).
+    fn quadrature(s: &PatchShape, v: [f64; 2], w: f64) -> ([f64; 2], f64) {
+        let mut acc = [0.0; 4];
+        let mut add = |r: [f64; 2], weight: f64| {
+            let u = [v[0] - w * r[1], v[1] + w * r[0]];
+            let n = norm2(u[0], u[1]);
+            let u = if n > 0.0 { [u[0] / n, u[1] / n] } else { [0.0; 2] };
+            acc[0] += weight * u[0];
+            acc[1] += weight * u[1];
+            acc[2] += weight * (r[0] * u[1] - r[1] * u[0]);
+            acc[3] += weight;
+        };
+        let c = s.corners();
+        if c.len() >= 3 {
+            for k in 0..c.len() {
+                triangle_points(c[k], c[(k + 1) % c.len()], &mut add);
+            }
+        } else {
+            let m = 100_000;
+            for i in 0..m {
+                let t = (i as f64 + 0.5) / m as f64;
+                add([c[0][0] + t * (c[1][0] - c[0][0]), c[0][1] + t * (c[1][1] - c[0][1])], 1.0);
+            }
+        }
+        ([acc[0] / acc[3], acc[1] / acc[3]], acc[2] / acc[3])
+    }
+
+    /// Calls `add(point, weight)` at the centroids of the `QUAD²` equal sub-triangles
+    /// of the triangle (0, a, b) (a centroid rule on each; weights are areas);
+    /// returns its area.
+    fn triangle_points(a: [f64; 2], b: [f64; 2], add: &mut impl FnMut([f64; 2], f64)) -> f64 {
+        const QUAD: usize = 80;
+        let area = 0.5 * (a[0] * b[1] - a[1] * b[0]).abs();
+        let w = area / (QUAD * QUAD) as f64;
+        let n = QUAD as f64;
+        let at = |i: f64, j: f64| [(i * a[0] + j * b[0]) / n, (i * a[1] + j * b[1]) / n];
+        for i in 0..QUAD {
+            for j in 0..QUAD - i {
+                let (fi, fj) = (i as f64, j as f64);
+                // The upward sub-triangle (i, j), (i+1, j), (i, j+1) of the grid.
+                add(at(fi + 1.0 / 3.0, fj + 1.0 / 3.0), w);
+                if i + j + 1 < QUAD {
+                    add(at(fi + 2.0 / 3.0, fj + 2.0 / 3.0), w);
+                }
+            }
+        }
+        area
+    }
+
+
+    #[test]
+    fn the_exact_means_of_a_sliding_spinning_patch_match_a_fine_quadrature() {
+        let shapes = [
+            square(0.3),
+            PatchShape::new(&[[0.0, 0.0], [0.4, 0.05], [0.1, 0.3]]),
+            PatchShape::new(&(0..6).map(|k| {
+                let t = k as f64 * std::f64::consts::TAU / 6.0 + 0.2;
+                [0.2 * t.cos() + 0.01, 0.15 * t.sin()]
+            }).collect::<Vec<_>>()),
+            PatchShape::new(&[[-0.3, 0.1], [0.2, -0.05]]),
+        ];
+        // Centres of rotation inside, outside, on an edge's line and at a corner.
+        let cases = [([0.1, 0.0], 2.0), ([0.0, -0.4], -1.5), ([1.0, 0.3], 0.7), ([-0.03, 0.02], 5.0), ([0.3 * 4.0, -0.3 * 4.0], 4.0)];
+        for (k, s) in shapes.iter().enumerate() {
+            for &(v, w) in &cases {
+                let (f, t) = s.integrate(v, w);
+                let (fq, tq) = quadrature(s, v, w);
+                let scale = s.lever.max(1e-3);
+                assert!(norm2(f[0] - fq[0], f[1] - fq[1]) < 2e-4, "shape {k} v {v:?} w {w}: {f:?} vs {fq:?}");
+                assert!((t - tq).abs() < 2e-4 * scale, "shape {k} v {v:?} w {w}: {t} vs {tq}");
+            }
+        }
     }
 }

@@ -166,6 +166,8 @@ pub struct ContactSolver {
     pub(crate) gathered: bool,
     /// The contacts on articulated links.
     pub gen: super::generalized::Generalized,
+    /// Velocities before this substep's warm start (see `super::warm_guard`).
+    pub(crate) guard: super::warm_guard::WarmGuard,
 }
 
 /// Any unit vector orthogonal to `n`.
@@ -412,6 +414,7 @@ impl ContactSolver {
     /// Re-applies the impulses of the previous substep (or step) and adds the
     /// previous substep's to the step totals.
     pub fn warm_start(&mut self) {
+        self.remember_before_warm();
         let first = self.substeps_done == 0;
         self.substeps_done += 1;
         if !first {

@@ -68,6 +68,17 @@ impl Rule {
         }
     }
 
+    /// The speed (m/s) at which a point at (effective) separation `s` is pushed
+    /// out in the first pass: 0 unless it penetrates.
+    #[inline(always)]
+    pub(crate) fn push_out_speed(&self, s: f64) -> f64 {
+        if s < 0.0 {
+            (-self.soft.bias_rate * s).min(self.max_push)
+        } else {
+            0.0
+        }
+    }
+
     /// Impulse increment of a point solved both ways: rigid, a penetration pushed
     /// out at the soft contact's rate (at most `max_push_velocity`) in the first
     /// pass and the push-out taken back by the relax pass.
@@ -92,12 +103,22 @@ impl ContactSolver {
     /// the blocks, solved exactly and pushed out by the position pass, have none.
     pub fn solve_normal(&mut self, relax: bool) {
         let rule = self.rule(relax);
-        if !relax {
-            self.sweep_supports(&rule);
+        self.velocity_pass(&rule);
+        // See `super::warm_guard`: a pass that ends with energy it may not have
+        // added is done again without the warm start.
+        if !relax && self.gained_energy(&rule) {
+            self.without_warm_start();
+            self.velocity_pass(&rule);
+        }
+    }
+
+    fn velocity_pass(&mut self, rule: &Rule) {
+        if !rule.relax {
+            self.sweep_supports(rule);
         }
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         for &ci in &self.ordinary {
-            solve(&cs[ci as usize], points, bodies, &rule);
+            solve(&cs[ci as usize], points, bodies, rule);
         }
     }
 

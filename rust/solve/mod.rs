@@ -14,5 +14,6 @@ pub mod position;
 pub mod support;
 pub mod soft;
 pub mod solver_body;
+pub mod warm_guard;
 
 pub use contact::{ContactSolver, SolverSettings};

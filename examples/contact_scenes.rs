@@ -1,6 +1,6 @@
 //! The pyramid and ball-pit scenes of `benches/peers/` built in Rust, stepped and
 //! timed without Python in the way: a target for `perf record` when working on the
-//! contact pipeline. `cargo run --release --example contact_scenes [pyramid|ball_pit] [steps]`
+//! contact pipeline. `cargo run --release --example contact_scenes [pyramid|ball_pit|box_pile] [steps]`
 //! (`WINDOW=50` in the environment: time and stage profile every 50 steps).
 use rigidrs::body::Shape;
 use rigidrs::world::{BodySpec, Scene, Settings, World};
@@ -76,12 +76,47 @@ fn ball_pit(n: usize) -> World {
     sc.build(&settings()).unwrap()
 }
 
+/// The box pile of `benches/peers/box_pile.py` (its seeded tilts replaced by a
+/// deterministic sequence): `side`² cubes a layer, 5 cm apart, dropped.
+fn box_pile(side: usize, layers: usize) -> World {
+    let mut sc = Scene::new([0.0, 0.0, -9.81]).unwrap();
+    let ground = Shape::plane([0.0, 0.0, 1.0], 0.0).unwrap();
+    sc.add_body(BodySpec { shape: Some(ground), fixed: true, material: material(0.5), ..Default::default() }).unwrap();
+    let (half, gap) = (0.25, 0.05);
+    let pitch = 2.0 * half + gap;
+    let cube = Shape::cuboid([half; 3]).unwrap();
+    let mut n = 0.0;
+    for k in 0..layers {
+        for i in 0..side {
+            for j in 0..side {
+                n += 1.0;
+                let (a, b) = ((n * 0.754877f64).fract() - 0.5, (n * 0.569840f64).fract() - 0.5);
+                let angle = 0.05 + 0.25 * (n * 0.31831f64).fract();
+                let axis = nalgebra::Vector3::new(a, b, 0.3).normalize();
+                let (s, c) = (0.5 * angle).sin_cos();
+                let mid = (side as f64 - 1.0) / 2.0;
+                sc.add_body(BodySpec {
+                    shape: Some(cube.clone()),
+                    density: Some(1000.0),
+                    position: [(i as f64 - mid) * pitch, (j as f64 - mid) * pitch, half + gap + k as f64 * pitch],
+                    orientation: [axis.x * s, axis.y * s, axis.z * s, c],
+                    material: material(0.5),
+                    ..Default::default()
+                })
+                .unwrap();
+            }
+        }
+    }
+    sc.build(&settings()).unwrap()
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let scene = args.get(1).map(String::as_str).unwrap_or("pyramid");
     let steps: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(600);
     let mut w = match scene {
         "ball_pit" => ball_pit(1000),
+        "box_pile" => box_pile(10, 4),
         _ => pyramid(20),
     };
     let t = Instant::now();

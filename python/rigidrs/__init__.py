@@ -37,7 +37,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
-from .view import Camera, export_gltf, render
+from .view import Camera, Viewer, export_gltf, render, view
 from .work_precision import accuracy
 
 __all__ = [
@@ -66,6 +66,7 @@ __all__ = [
     "Sphere",
     "StateError",
     "TriMesh",
+    "Viewer",
     "World",
     "__version__",
     "accuracy",
@@ -74,4 +75,5 @@ __all__ = [
     "mass_properties",
     "polar_decomposition",
     "render",
+    "view",
 ]

@@ -1,5 +1,6 @@
-"""Results out: pictures, meshes and glTF files of a world or a recording (no display needed)."""
+"""Results out: pictures, meshes and glTF files of a world or a recording (no display needed), and a viewer in the browser."""
 from .gltf import export_gltf
 from .render import Camera, render
+from .viewer import Viewer, view
 
-__all__ = ["Camera", "export_gltf", "render"]
+__all__ = ["Camera", "Viewer", "export_gltf", "render", "view"]

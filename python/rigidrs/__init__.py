@@ -37,7 +37,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
-from .view import Camera, Viewer, export_gltf, render, view
+from .view import Camera, Viewer, export_gltf, export_usd, render, view
 from .work_precision import accuracy
 
 __all__ = [
@@ -71,6 +71,7 @@ __all__ = [
     "__version__",
     "accuracy",
     "export_gltf",
+    "export_usd",
     "load",
     "mass_properties",
     "polar_decomposition",

@@ -1,4 +1,5 @@
 """Command line: ``rigidrs demo`` simulates built-in scenes and prints what it measured;
+``rigidrs run SCENE`` simulates a scene file and writes a recording, video, glTF or USD;
 ``rigidrs accuracy`` writes the work-precision report."""
 from __future__ import annotations
 
@@ -19,12 +20,49 @@ def main(argv: list[str] | None = None) -> int:
     p_acc.add_argument("--out", default="accuracy-report", help="output directory (default: accuracy-report)")
     p_acc.add_argument("--problems", nargs="+", metavar="NAME", help="a subset of the problems (default: all)")
     p_acc.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p_run = sub.add_parser("run", help="simulate a scene file; write a recording, video, glTF or USD; view it")
+    p_run.add_argument("scene", help="a Python file defining `scene` or `make_scene()`, or a scene file (.toml, .json)")
+    p_run.add_argument("--seconds", type=float, default=5.0, help="simulated time (s, default 5)")
+    p_run.add_argument("--dt", type=float, default=None, help="time step (s; default the file's `dt`, else 1/120)")
+    p_run.add_argument("--every", type=int, default=None, help="steps between recorded frames (default: 60 frames/s)")
+    for flag, kinds in OUTPUT_FLAGS.items():
+        p_run.add_argument(f"--{flag}", metavar="PATH", help=f"write {OUTPUT_WHAT[flag]} ({', '.join(kinds)})")
+    p_run.add_argument("-o", "--out", action="append", default=[], metavar="PATH",
+                       help="another output, chosen by its extension (.npz .png .gif .mp4 .glb .gltf .usd .usda "
+                            ".usdc); repeat for more")
+    p_run.add_argument("--view", action="store_true", help="then play the recording in the browser viewer (Ctrl-C to stop)")
+    p_run.add_argument("--port", type=int, default=8080, help="viewer port (default 8080)")
+    p_run.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = parser.parse_args(argv)
+    if args.command == "run":
+        return _run(args)
     if args.command == "demo":
         return demo.run(seconds=args.seconds, integrator=args.integrator, out=sys.stdout)
     if args.command == "accuracy":
         return run_accuracy(args.quick, args.out, args.problems, not args.no_progress)
     return 2
+
+
+OUTPUT_FLAGS = {"record": (".npz",), "video": (".mp4", ".gif", ".png"), "gltf": (".glb", ".gltf"),
+                "usd": (".usd", ".usda", ".usdc")}
+"""``rigidrs run`` output flags and the extensions each takes (``--out`` takes any of them)."""
+OUTPUT_WHAT = {"record": "the recording", "video": "a video, or a picture of the last frame",
+               "gltf": "an animated glTF", "usd": "an animated USD stage"}
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .run import run
+
+    outputs = list(args.out)
+    for flag, kinds in OUTPUT_FLAGS.items():
+        path = getattr(args, flag)
+        if path is not None:
+            if not path.lower().endswith(kinds):
+                print(f"rigidrs run: --{flag} {path}: the file name must end in {' or '.join(kinds)}", file=sys.stderr)
+                return 2
+            outputs.append(path)
+    return run(args.scene, seconds=args.seconds, dt=args.dt, every=args.every, outputs=outputs,
+               view=args.view, port=args.port, progress=not args.no_progress)
 
 
 def run_accuracy(quick: bool, out: str, problems: list[str] | None, progress: bool) -> int:

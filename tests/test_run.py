@@ -153,3 +153,22 @@ def test_scene_file_form(tmp_path: Path) -> None:
                      "--record", str(ref), "--no-progress"]) == 0
     np.testing.assert_array_equal(rec.position, rr.Recording.load(ref).position)
     np.testing.assert_array_equal(rec.orientation, rr.Recording.load(ref).orientation)
+
+
+def test_energies_and_contacts_go_into_the_recording_file(tmp_path: Path) -> None:
+    from rigidrs.view.extras import Extras
+
+    npz = tmp_path / "run.npz"
+    assert cli.main(["run", str(scene_file(tmp_path)), "--seconds", "0.5", "--every", "6", "--record", str(npz),
+                     "--energies", "--contacts", "--no-progress"]) == 0
+    rec, ex = rr.Recording.load(npz), Extras.load(npz)
+    np.testing.assert_array_equal(ex.steps, rec.steps)
+    t = ex.times
+    m_ball = 1000.0 * 4 / 3 * np.pi * 0.1**3
+    m_box, iz_box = 500.0 * 0.2 * 0.4 * 0.6, 500.0 * 0.2 * 0.4 * 0.6 / 3 * (0.1**2 + 0.2**2)
+    # Both in free flight (the box spins about its z axis, a principal axis, at 2 rad/s):
+    # the velocities are exact under gravity, so is the kinetic energy, to rounding.
+    exact = 0.5 * m_ball * (9.0 + (5.0 - G * t) ** 2) + 0.5 * m_box * (G * t) ** 2 + 0.5 * iz_box * 4.0
+    np.testing.assert_allclose(ex.kinetic, exact, rtol=1e-12)
+    assert np.ptp(ex.kinetic + ex.potential) < 1e-9 * ex.kinetic[0]
+    assert ex.contact_start.tolist() == [0] * (len(rec) + 1)  # nothing touches

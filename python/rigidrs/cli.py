@@ -30,6 +30,8 @@ def main(argv: list[str] | None = None) -> int:
     p_run.add_argument("-o", "--out", action="append", default=[], metavar="PATH",
                        help="another output, chosen by its extension (.npz .png .gif .mp4 .glb .gltf .usd .usda "
                             ".usdc); repeat for more")
+    p_run.add_argument("--energies", action="store_true", help="also record kinetic and potential energy per frame (in the .npz)")
+    p_run.add_argument("--contacts", action="store_true", help="also record the contact points per frame (in the .npz)")
     p_run.add_argument("--view", action="store_true", help="then play the recording in the browser viewer (Ctrl-C to stop)")
     p_run.add_argument("--port", type=int, default=8080, help="viewer port (default 8080)")
     p_run.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -62,7 +64,8 @@ def _run(args: argparse.Namespace) -> int:
                 return 2
             outputs.append(path)
     return run(args.scene, seconds=args.seconds, dt=args.dt, every=args.every, outputs=outputs,
-               view=args.view, port=args.port, progress=not args.no_progress)
+               view=args.view, port=args.port, progress=not args.no_progress,
+               energies=args.energies, contacts=args.contacts)
 
 
 def run_accuracy(quick: bool, out: str, problems: list[str] | None, progress: bool) -> int:

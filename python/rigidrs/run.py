@@ -111,13 +111,16 @@ class _Bar:
         self.stream.flush()
 
 
-def simulate(world: Any, steps: int, every: int, record: bool, progress: TextIO | None) -> tuple[Any, float, str | None]:
-    """Steps ``world`` ``steps`` times (recording every ``every``-th step when ``record``):
-    (recording or None, wall seconds spent stepping, error message or None). A step that
-    fails stops the run; the frames before it are kept."""
+def simulate(world: Any, steps: int, every: int, record: bool, progress: TextIO | None,
+             capture: Any = None) -> tuple[Any, float, str | None]:
+    """Steps ``world`` ``steps`` times (recording every ``every``-th step when ``record``;
+    through ``capture``, a :class:`rigidrs.view.extras.Capture`, when given): (recording or
+    None, wall seconds spent stepping, error message or None). A step that fails stops
+    the run; the frames before it are kept."""
     from . import SimulationError
 
     rec = world.record(every=every) if record else None
+    advance = capture.step if capture is not None else world.step
     chunk = max(1, steps // 100)
     done, wall, error = 0, 0.0, None
     bar = _Bar(progress, steps) if progress is not None else None
@@ -125,7 +128,7 @@ def simulate(world: Any, steps: int, every: int, record: bool, progress: TextIO 
         while done < steps:
             n = min(chunk, steps - done)
             t0 = time.perf_counter()
-            world.step(n)
+            advance(n)
             wall += time.perf_counter() - t0
             done += n
             if bar is not None:
@@ -142,12 +145,15 @@ def simulate(world: Any, steps: int, every: int, record: bool, progress: TextIO 
     return rec, wall, error
 
 
-def write(world: Any, rec: Any, path: Path) -> None:
+def write(world: Any, rec: Any, path: Path, extras: Any = None) -> None:
     import rigidrs as rr
 
     kind = KINDS[path.suffix.lower()]
     if kind == "recording":
-        rec.save(path)
+        if extras is not None:
+            extras.save(path, rec)
+        else:
+            rec.save(path)
     elif kind in ("picture", "video"):
         rr.render(world, rec, path)
     elif kind == "glTF":
@@ -158,9 +164,11 @@ def write(world: Any, rec: Any, path: Path) -> None:
 
 def run(scene: str, *, seconds: float = 5.0, dt: float | None = None, every: int | None = None,
         outputs: list[str] | None = None, view: bool = False, port: int = 8080, progress: bool = True,
-        out: TextIO | None = None) -> int:
+        energies: bool = False, contacts: bool = False, out: TextIO | None = None) -> int:
     """The ``rigidrs run`` command; returns the exit code (0 done, 1 the simulation
-    failed part-way (what was recorded is still written), 2 bad arguments or scene)."""
+    failed part-way (what was recorded is still written), 2 bad arguments or scene).
+    ``energies``/``contacts``: capture them per frame (:mod:`rigidrs.view.extras`) into
+    the ``.npz`` recording."""
     out = out or sys.stdout
     err = sys.stderr
     try:
@@ -180,7 +188,13 @@ def run(scene: str, *, seconds: float = 5.0, dt: float | None = None, every: int
     out.write(f"{scene}: {len(world.bodies)} bodies, {len(world.particles)} particles, {len(world.joints)} joints; "
               f"{steps} steps of {world.dt:.6g} s ({seconds:g} s), integrator {world.integrator!r}\n")
     bar = err if progress and err.isatty() else None
-    rec, wall, error = simulate(world, steps, k, bool(paths) or view, bar)
+    capture = None
+    if energies or contacts:
+        from .view.extras import Capture
+
+        capture = Capture(world, k, energies=energies, contacts=contacts)
+    rec, wall, error = simulate(world, steps, k, bool(paths) or view, bar, capture)
+    extras = capture.extras if capture is not None else None
     e1 = world.kinetic_energy() + world.potential_energy()
     taken, simulated = world.steps - steps0, world.time - time0
     rate = f"{taken / wall:,.0f} steps/s, {simulated / wall:,.1f}x real time" if wall > 0 else "no steps"
@@ -194,7 +208,7 @@ def run(scene: str, *, seconds: float = 5.0, dt: float | None = None, every: int
     for p in paths:
         t0 = time.perf_counter()
         try:
-            write(world, rec, p)
+            write(world, rec, p, extras)
         except (OSError, ValueError, ImportError) as e:
             err.write(f"rigidrs run: {p}: {e}\n")
             return 2

@@ -15,6 +15,10 @@ def main(argv: list[str] | None = None) -> int:
     p_demo = sub.add_parser("demo", help="simulate built-in scenes and print measurements")
     p_demo.add_argument("--seconds", type=float, default=60.0, help="simulated time per scene (s)")
     p_demo.add_argument("--integrator", default="strang", help="integrator name (see rigidrs.INTEGRATORS)")
+    p_demo.add_argument("--video", metavar="PATH", default=None,
+                        help="also draw a ball knocking over a pyramid into PATH (.mp4 or .gif: pip install "
+                             "\"rigidrs[video]\"; .png: the last frame)")
+    p_demo.add_argument("--only-video", action="store_true", help="with --video: skip the measured scenes")
     p_acc = sub.add_parser("accuracy", help="work-precision report: error against cost for every method")
     p_acc.add_argument("--quick", action="store_true", help="fewer points and shorter runs (under two minutes)")
     p_acc.add_argument("--out", default="accuracy-report", help="output directory (default: accuracy-report)")
@@ -39,7 +43,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "run":
         return _run(args)
     if args.command == "demo":
-        return demo.run(seconds=args.seconds, integrator=args.integrator, out=sys.stdout)
+        code = 0 if args.only_video else demo.run(seconds=args.seconds, integrator=args.integrator, out=sys.stdout)
+        if code == 0 and args.video:
+            if not args.only_video:
+                print()
+            code = demo.video(args.video, integrator=args.integrator, out=sys.stdout)
+        return code
     if args.command == "accuracy":
         return run_accuracy(args.quick, args.out, args.problems, not args.no_progress)
     return 2

@@ -101,3 +101,48 @@ def test_recording_alone_and_bad_input() -> None:
         rr.view("scene.toml", port=0, block=False)
     with pytest.raises(ValueError, match="speed"):
         rr.view(world, port=0, block=False, speed=0.0)
+
+
+def _chromium() -> str | None:
+    import shutil
+
+    return next((p for p in map(shutil.which, ("chromium", "chromium-browser", "google-chrome")) if p), None)
+
+
+@pytest.mark.skipif(_chromium() is None, reason="no Chromium on this machine (not pip-installable: apt install chromium)")
+def test_headless_chromium_draws_the_scene() -> None:
+    """The page in a real browser (headless Chromium, software WebGL): its screenshot shows
+    the box in its palette blue and the sphere in its palette yellow."""
+    sync = pytest.importorskip("playwright.sync_api", reason="pip install playwright").sync_playwright
+    import io
+    import time
+
+    imageio = pytest.importorskip("imageio.v2")
+    s = rr.Scene()
+    s.add_body(rr.Plane(), fixed=True)
+    s.add_body(rr.Box((0.3, 0.3, 0.3)), density=500.0, position=(0, 0, 0.3))  # palette 1: blue
+    s.add_body(rr.Sphere(0.3), density=500.0, position=(1.0, 0, 0.3))  # palette 2: yellow
+    v = rr.view(s, port=0, block=False, playing=False)
+    try:
+        with sync() as p:
+            browser = p.chromium.launch(executable_path=_chromium(),
+                                        args=["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-sandbox"])
+            page = browser.new_page(viewport={"width": 640, "height": 480})
+            page.goto(v.url)
+            blue = yellow = 0
+            deadline = time.monotonic() + 30.0
+            while time.monotonic() < deadline:  # until three.js has drawn the meshes
+                img = imageio.imread(io.BytesIO(page.screenshot())).astype(int)[..., :3]
+                r, g, b = img[..., 0], img[..., 1], img[..., 2]
+                # Shaded palette blue (0.25, 0.55, 0.85) and yellow (0.95, 0.70, 0.20): the
+                # hue survives any shading; grey ground, white panel and sky do not pass.
+                blue = int(((b > r + 60) & (b > g + 20)).sum())
+                yellow = int(((r > b + 80) & (g > b + 60)).sum())
+                if blue > 1500 and yellow > 1500:
+                    break
+                page.wait_for_timeout(500)
+            browser.close()
+        # Each body of 0.6 m, seen from the default camera, covers ~60 x 60 pixels.
+        assert blue > 1500 and yellow > 1500, (blue, yellow)
+    finally:
+        v.close()

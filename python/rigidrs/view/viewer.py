@@ -80,7 +80,10 @@ class Viewer:
             self._points = self.server.scene.add_point_cloud(
                 "/particles", parts.astype(np.float32), (235, 235, 242), point_size=2 * radius,
                 point_shape="circle", precision="float32")
-        cam = _camera(None, lo, hi, 4 / 3)
+        # The first view frames the bodies as they are at the start (the renderer's default
+        # camera for that frame); the ground spans the whole recording.
+        cam = _camera(None, *_bounds(shapes, pos[None], quat[None], None), 4 / 3)
+        self.server.initial_camera.fov = float(np.radians(cam.fov))
         self.server.initial_camera.position = tuple(float(x) for x in cam.eye)
         self.server.initial_camera.look_at = tuple(float(x) for x in cam.target)
         self._build_gui(playing, speed, loop)
@@ -116,13 +119,29 @@ class Viewer:
                 v, t = _ground(d, quat_matrix(quat[i]).T @ (centre - pos[i]), size)
             else:
                 v, t = shape_mesh(d, detail)
-            double = d["kind"] in ("Plane", "TriMesh")
+            plane = d["kind"] == "Plane"
             handle = self.server.scene.add_mesh_simple(
                 f"/bodies/{i}", v.astype(np.float32), t.astype(np.uint32), color=tuple(float(c) for c in rgb[i]),
-                flat_shading=True, side="double" if double else "front",
-                position=pos[i], wxyz=_wxyz(quat[i]))
+                flat_shading=True, side="double" if plane or d["kind"] == "TriMesh" else "front",
+                receive_shadow=not plane, position=pos[i], wxyz=_wxyz(quat[i]))
             handle.on_click(lambda _event, i=i: self._select(i))
             self.meshes.append(handle)
+            if plane:
+                self._grid(i, d, v, size)
+
+    def _grid(self, i: int, d: Mapping[str, Any], quad: F64, size: float) -> None:
+        """Grid lines on a ground plane (a child of its body node): metric depth cues, and
+        the bodies' shadows (the large plane itself does not take them: three.js's shadow
+        map over it shows bands)."""
+        n = quat_matrix(d["orientation"]) @ np.asarray(d["normal"], float)
+        n /= np.linalg.norm(n)
+        axis = np.cross([0.0, 0.0, 1.0], n)
+        q = np.array([*axis, 1.0 + n[2]]) if n[2] > -1 + 1e-9 else np.array([1.0, 0.0, 0.0, 0.0])
+        q /= np.linalg.norm(q)
+        cell = float(10 ** np.floor(np.log10(max(size / 10, 1e-6))))  # 10 to 100 cells across
+        self.server.scene.add_grid(
+            f"/bodies/{i}/grid", size, size, plane="xy", cell_size=cell, section_size=10 * cell,
+            shadow_opacity=0.3, position=quad.mean(axis=0) + 1e-4 * size * n, wxyz=_wxyz(q))
 
     # -------------------------------------------------------------------- GUI
     def _build_gui(self, playing: bool, speed: float, loop: bool) -> None:

@@ -172,3 +172,21 @@ def test_energies_and_contacts_go_into_the_recording_file(tmp_path: Path) -> Non
     np.testing.assert_allclose(ex.kinetic, exact, rtol=1e-12)
     assert np.ptp(ex.kinetic + ex.potential) < 1e-9 * ex.kinetic[0]
     assert ex.contact_start.tolist() == [0] * (len(rec) + 1)  # nothing touches
+
+
+def test_view_command(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    seen: dict[str, Any] = {}
+
+    def fake_view(world: Any, rec: Any, **kw: Any) -> None:  # the real one blocks until Ctrl-C
+        seen.update(world=world, rec=rec, **kw)
+
+    monkeypatch.setattr(sys.modules["rigidrs.view.viewer"], "view", fake_view)
+    path = scene_file(tmp_path)
+    npz = tmp_path / "run.npz"
+    assert cli.main(["run", str(path), "--seconds", "0.1", "--record", str(npz), "--no-progress"]) == 0
+    assert cli.main(["view", str(path), str(npz), "--port", "0", "--paused"]) == 0
+    assert len(seen["rec"]) == 7 and seen["world"].steps == 0 and seen["playing"] is False
+    assert cli.main(["view", str(path), "--speed", "0.5"]) == 0
+    assert seen["rec"] is None and seen["speed"] == 0.5
+    assert cli.main(["view", str(path), str(tmp_path / "missing.npz")]) == 2
+    assert "missing.npz" in capsys.readouterr().err

@@ -39,9 +39,19 @@ def main(argv: list[str] | None = None) -> int:
     p_run.add_argument("--view", action="store_true", help="then play the recording in the browser viewer (Ctrl-C to stop)")
     p_run.add_argument("--port", type=int, default=8080, help="viewer port (default 8080)")
     p_run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p_view = sub.add_parser("view", help="open the browser viewer on a scene (stepped live) or a recording of it")
+    p_view.add_argument("scene", help="as for `run`: a Python file defining `scene` or `make_scene()`, or a scene file")
+    p_view.add_argument("recording", nargs="?", help="a recording of that scene (.npz, from `run --record`) to play back")
+    p_view.add_argument("--dt", type=float, default=None, help="time step (s; default the file's `dt`, else 1/120)")
+    p_view.add_argument("--speed", type=float, default=1.0, help="simulated seconds per second (default 1)")
+    p_view.add_argument("--paused", action="store_true", help="start paused")
+    p_view.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1; 0.0.0.0: all)")
+    p_view.add_argument("--port", type=int, default=8080, help="port (default 8080; the next free one if taken)")
     args = parser.parse_args(argv)
     if args.command == "run":
         return _run(args)
+    if args.command == "view":
+        return _view(args)
     if args.command == "demo":
         code = 0 if args.only_video else demo.run(seconds=args.seconds, integrator=args.integrator, out=sys.stdout)
         if code == 0 and args.video:
@@ -75,6 +85,21 @@ def _run(args: argparse.Namespace) -> int:
     return run(args.scene, seconds=args.seconds, dt=args.dt, every=args.every, outputs=outputs,
                view=args.view, port=args.port, progress=not args.no_progress,
                energies=args.energies, contacts=args.contacts)
+
+
+def _view(args: argparse.Namespace) -> int:
+    from . import Recording
+    from .run import RunError, load
+    from .view import viewer as viewer_module
+
+    try:
+        world = load(args.scene, args.dt)
+        rec = Recording.load(args.recording) if args.recording else None
+        viewer_module.view(world, rec, host=args.host, port=args.port, speed=args.speed, playing=not args.paused)
+    except (RunError, OSError, ValueError, TypeError, ImportError) as e:
+        print(f"rigidrs view: {e}", file=sys.stderr)
+        return 2
+    return 0
 
 
 def run_accuracy(quick: bool, out: str, problems: list[str] | None, progress: bool) -> int:

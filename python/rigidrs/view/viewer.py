@@ -305,6 +305,8 @@ class Viewer:
             pass
         finally:
             self.close()
+        if self._error:
+            print(f"rigidrs viewer stopped: {self._error}", flush=True)
 
     def close(self) -> None:
         """Stops the loop and the server (idempotent)."""

@@ -37,7 +37,7 @@ FORMATS = (".usd", ".usda", ".usdc")
 
 def _pxr() -> Any:
     try:
-        from pxr import Gf, Sdf, Tf, Usd, UsdGeom, Vt
+        from pxr import Gf, Sdf, Tf, Usd, UsdGeom, Vt  # type: ignore[import-untyped, import-not-found, unused-ignore]
     except ImportError as e:
         raise ImportError('export_usd needs usd-core: pip install "rigidrs[usd]"') from e
     return Gf, Sdf, Tf, Usd, UsdGeom, Vt

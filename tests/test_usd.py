@@ -57,19 +57,23 @@ def test_poses_at_every_sample_equal_the_recording(tmp_path: Path, suffix: str) 
     for i, prim in prims.items():
         xf = UsdGeom.Xformable(prim)
         translate, orient = xf.GetOrderedXformOps()
+        samples = translate.GetTimeSamples() if i else [float(k) for k in range(len(rec))]
+        # Whole frames apart: the codes are 0, 1, 2, ... (rec.times × rate, snapped).
+        np.testing.assert_allclose(samples, rec.times * tcps, rtol=0, atol=1e-9)
+        assert samples == [float(k) for k in range(len(rec))]
         for k in range(len(rec)):
-            code = Usd.TimeCode(rec.times[k] * tcps)
+            code = Usd.TimeCode(samples[k])
             p, q = np.array(translate.Get(code)), orient.Get(code)
             np.testing.assert_allclose(p, rec.position[k, i], rtol=0, atol=1e-12)
             np.testing.assert_allclose([*q.GetImaginary(), q.GetReal()], rec.orientation[k, i], rtol=0, atol=1e-12)
         # USD composes the ops itself (row vectors: the matrix is [R^T 0; p 1]); its
         # rotation equals ours to rounding of a few products of unit numbers.
         k = len(rec) // 2
-        m = np.array(xf.ComputeLocalToWorldTransform(Usd.TimeCode(rec.times[k] * tcps)))
+        m = np.array(xf.ComputeLocalToWorldTransform(Usd.TimeCode(samples[k])))
         np.testing.assert_allclose(m[:3, :3].T, quat_matrix(rec.orientation[k, i]), rtol=0, atol=1e-12)
         np.testing.assert_allclose(m[3, :3], rec.position[k, i], rtol=0, atol=1e-12)
         # Halfway between two samples USD interpolates the translation linearly.
-        mid = Usd.TimeCode((rec.times[k] + rec.times[k + 1]) / 2 * tcps)
+        mid = Usd.TimeCode(k + 0.5)
         np.testing.assert_allclose(translate.Get(mid), (rec.position[k, i] + rec.position[k + 1, i]) / 2,
                                    rtol=0, atol=1e-12)
         mesh = UsdGeom.Mesh(stage.GetPrimAtPath(prim.GetPath().AppendChild("shape")))
@@ -108,3 +112,22 @@ def test_bad_input_leaves_no_file(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="does not match the scene"):
         rr.export_usd(other.build(dt=0.01), rec, tmp_path / "run.usd")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_particles_are_time_sampled_points(tmp_path: Path) -> None:
+    s = rr.Scene()
+    for i in range(4):
+        s.add_particle((0.1 * i, 0, 1), mass=0.1, velocity=(0, 0, 1))
+    world = s.build(dt=1 / 100)
+    rec = world.record(every=5)
+    world.step(20)
+    stage = Usd.Stage.Open(str(rr.export_usd(world, rec, tmp_path / "p.usda")))
+    points = UsdGeom.Points(stage.GetPrimAtPath("/World/particles"))
+    assert points.GetPointsAttr().GetTimeSamples() == [0.0, 1.0, 2.0, 3.0, 4.0]  # 20 frames/s
+    for k in range(len(rec)):
+        got = np.array(points.GetPointsAttr().Get(float(k)))
+        np.testing.assert_allclose(got, rec.particle_position[k], rtol=0, atol=1e-6)  # float32 points of ~1 m
+    # No collision radius: drawn 1 % of the scene's size wide, the scene being the box
+    # around the particles over the whole recording.
+    span = np.ptp(rec.particle_position.reshape(-1, 3), axis=0).max()
+    np.testing.assert_allclose(points.GetWidthsAttr().Get(), 2 * max(0.005 * span, 1e-3), rtol=1e-6)

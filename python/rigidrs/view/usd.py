@@ -15,10 +15,10 @@ rotation is needed, unlike glTF):
   (``ground_size``); ``displayColor`` its colour (linear, from the sRGB palette or
   ``colors``), double-sided for planes and triangle meshes.
 * Particles: a ``Points`` prim ``/World/particles`` with time-sampled ``points`` and
-  ``widths`` (2 × radius).
+  ``widths`` (2 × radius; 1 % of the scene's size where the radius is 0).
 * Time: ``timeCodesPerSecond`` = ``framesPerSecond`` = 1 / (the recording's frame
-  interval); frame k is at time code ``times[k] × timeCodesPerSecond``, so a time code
-  is simulated seconds × that rate. ``startTimeCode``/``endTimeCode`` span the frames.
+  interval); frame k is at time code ``times[k] × timeCodesPerSecond`` (snapped to a
+  whole number within 1e-6), so a time code is simulated seconds × that rate. ``startTimeCode``/``endTimeCode`` span the frames.
 """
 from __future__ import annotations
 
@@ -50,6 +50,15 @@ def time_codes_per_second(times: Any) -> float:
     if len(t) < 2:
         return 60.0
     return float(1.0 / np.median(np.diff(t)))
+
+
+def time_codes(times: Any, tcps: float) -> list[float]:
+    """Each frame's time code, ``times × tcps``, snapped to the nearest integer when within
+    1e-6 of it (a recording's frames are whole frames apart; the product's rounding would
+    otherwise write codes like 8.000000000000002)."""
+    codes = np.asarray(times, float) * tcps
+    near = np.round(codes)
+    return [float(x) for x in np.where(np.abs(codes - near) < 1e-6, near, codes)]
 
 
 def export_usd(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = None, *,
@@ -94,12 +103,12 @@ def export_usd(source: Any, rec: Any = None, path: str | os.PathLike[str] | None
     stage.SetDefaultPrim(root.GetPrim())
     animated = rec is not None
     tcps = time_codes_per_second(times)
-    codes = [Usd.TimeCode(float(t) * tcps) for t in times] if animated else [Usd.TimeCode.Default()]
+    codes = [Usd.TimeCode(c) for c in time_codes(times, tcps)] if animated else [Usd.TimeCode.Default()]
     if animated:
         stage.SetTimeCodesPerSecond(tcps)
         stage.SetFramesPerSecond(tcps)
-        stage.SetStartTimeCode(float(times[0]) * tcps)
-        stage.SetEndTimeCode(float(times[-1]) * tcps)
+        stage.SetStartTimeCode(codes[0].GetValue())
+        stage.SetEndTimeCode(codes[-1].GetValue())
 
     taken: set[str] = set()
     names = list(world.bodies.names)
@@ -140,7 +149,10 @@ def export_usd(source: Any, rec: Any = None, path: str | os.PathLike[str] | None
         mesh.CreateDisplayColorAttr(Vt.Vec3fArray.FromNumpy(np.asarray(color[i:i + 1], np.float32)))
     if has_particles:
         pts = UsdGeom.Points.Define(stage, "/World/particles")
-        widths = Vt.FloatArray.FromNumpy(2.0 * np.asarray(world.particles.radius, np.float32))
+        radius = np.asarray(world.particles.radius, float)
+        # Points of radius 0 (no collision radius) are drawn 1 % of the scene's size wide.
+        radius = np.where(radius > 0, radius, max(0.005 * float(np.max(hi - lo)), 1e-3))
+        widths = Vt.FloatArray.FromNumpy((2.0 * radius).astype(np.float32))
         pts.CreateWidthsAttr(widths)
         attr = pts.CreatePointsAttr()
         for k, code in enumerate(codes):

@@ -76,7 +76,9 @@ class Viewer:
         self._add_meshes(shapes, pos, quat, colors, detail, ground_size, lo, hi)
         self._points = None
         if parts.shape[0]:
-            radius = float(np.median(world.particles.radius)) if world is not None else 0.01
+            radius = float(np.median(world.particles.radius)) if world is not None else 0.0
+            if radius <= 0:  # no collision radius: 1 % of the scene's size
+                radius = max(0.005 * float(np.max(hi - lo)), 1e-3)
             self._points = self.server.scene.add_point_cloud(
                 "/particles", parts.astype(np.float32), (235, 235, 242), point_size=2 * radius,
                 point_shape="circle", precision="float32")

@@ -208,13 +208,16 @@ class Viewer:
     # --------------------------------------------------------------- updating
     def _apply(self, pos: F64, quat: F64, parts: F64) -> None:
         # viser only sends a pose that differs from the last one beyond np.allclose
-        # (relative 1e-5): a change below that is invisible anyway.
-        for i, h in enumerate(self.meshes):
-            if h is not None:
-                h.position = pos[i]
-                h.wxyz = _wxyz(quat[i])
-        if self._points is not None:
-            self._points.points = parts.astype(np.float32)
+        # (relative 1e-5): a change below that is invisible anyway. One frame's updates
+        # are applied together by the page (no half-moved frame).
+        wxyz = _wxyz(quat)
+        with self.server.atomic():
+            for i, h in enumerate(self.meshes):
+                if h is not None:
+                    h.position = pos[i]
+                    h.wxyz = wxyz[i]
+            if self._points is not None:
+                self._points.points = parts.astype(np.float32)
 
     def show(self, k: int) -> None:
         """Shows frame ``k`` of the recording (negative counts from the end)."""

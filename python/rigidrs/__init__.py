@@ -37,7 +37,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
-from .view import Camera, export_gltf, render
+from .view import Camera, Capture, Extras, Viewer, export_gltf, export_usd, render, view
 from .work_precision import accuracy
 
 __all__ = [
@@ -45,6 +45,7 @@ __all__ = [
     "INTEGRATORS",
     "Bodies",
     "Camera",
+    "Capture",
     "Box",
     "Capsule",
     "Compound",
@@ -52,6 +53,7 @@ __all__ = [
     "ConvexHull",
     "Cylinder",
     "Drive",
+    "Extras",
     "Joints",
     "MassProperties",
     "Particles",
@@ -66,12 +68,15 @@ __all__ = [
     "Sphere",
     "StateError",
     "TriMesh",
+    "Viewer",
     "World",
     "__version__",
     "accuracy",
     "export_gltf",
+    "export_usd",
     "load",
     "mass_properties",
     "polar_decomposition",
     "render",
+    "view",
 ]

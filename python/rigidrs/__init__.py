@@ -37,6 +37,8 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from .io import load_scene
+from .io.methods import install as _install_file_methods
 from .view import Camera, export_gltf, render
 from .work_precision import accuracy
 
@@ -71,7 +73,10 @@ __all__ = [
     "accuracy",
     "export_gltf",
     "load",
+    "load_scene",
     "mass_properties",
     "polar_decomposition",
     "render",
 ]
+
+_install_file_methods()

@@ -170,3 +170,34 @@ def test_a_scene_file_references_a_mesh_file_relative_to_itself(tmp_path: Path) 
     (folder / "box.stl").unlink()
     with pytest.raises(FileNotFoundError, match="box.stl"):
         rr.load_scene(folder / "scene.toml")
+
+
+def test_without_trimesh_the_error_names_the_extra(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    path = box_file(tmp_path, ".stl")
+    monkeypatch.setitem(sys.modules, "trimesh", None)  # as if not installed
+    with pytest.raises(ImportError, match=r"pip install 'rigidrs\[io\]'"):
+        rr.TriMesh.from_file(path)
+    # Scene files need only the core.
+    scene = rr.Scene()
+    scene.add_body(rr.Sphere(0.1), mass=1.0)
+    scene.save(tmp_path / "s.json")
+    assert len(rr.load_scene(tmp_path / "s.json")) == 1
+
+
+def test_a_textured_obj_with_split_corners_reads_closed(tmp_path: Path) -> None:
+    """OBJ corners split by per-face normals and texture coordinates are merged by
+    position: the box is closed and carries its mass."""
+    box = trimesh.creation.box(extents=(0.2, 0.4, 0.6))
+    corners = box.vertices[box.faces].reshape(-1, 3).tolist()
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in corners]
+    lines += [f"vt {k % 2} {k // 2 % 2}" for k in range(len(corners))]
+    lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in box.face_normals.tolist()]
+    lines += [f"f {3 * f + 1}/{3 * f + 1}/{f + 1} {3 * f + 2}/{3 * f + 2}/{f + 1} {3 * f + 3}/{3 * f + 3}/{f + 1}"
+              for f in range(len(box.faces))]
+    path = tmp_path / "split.obj"
+    path.write_text("\n".join(lines) + "\n")
+    scene = rr.Scene()
+    scene.add_body(rr.TriMesh.from_file(path), density=1000.0)
+    np.testing.assert_allclose(scene.build(dt=0.01).bodies.mass, [1000.0 * 0.2 * 0.4 * 0.6], rtol=1e-12)

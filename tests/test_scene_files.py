@@ -228,3 +228,19 @@ def test_from_dict_does_not_modify_its_input() -> None:
     kept = copy.deepcopy(d)
     rr.Scene.from_dict(d)
     assert d == kept
+
+
+def test_nested_errors_point_at_their_line_and_toml_inf_reads(tmp_path: Path) -> None:
+    text = (
+        "schema_version = 1\n\n[build]\ndt = 0.01\nmax_rotation_angle = inf\n\n"
+        '[[bodies]]\nmass = 1.0\nshape = {kind = "Sphere", radius = 0.1}\n\n'
+        "[[bodies]]\nmass = 1.0\n\n[bodies.shape]\nkind = \"Box\"\nhalf_extent = [0.1, 0.1, 0.1]\n"
+    )
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    with pytest.raises(rr.RigidError) as info:
+        rr.load_scene(path)
+    line = text.splitlines().index("half_extent = [0.1, 0.1, 0.1]") + 1
+    assert str(info.value) == f"{path}, line {line}: bodies[1].shape.half_extent: unknown key; did you mean 'half_extents'?"
+    path.write_text(text.replace("half_extent =", "half_extents ="))
+    assert rr.load_scene(path).build_settings == {"dt": 0.01, "max_rotation_angle": float("inf")}

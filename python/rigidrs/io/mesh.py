@@ -55,11 +55,16 @@ def load_mesh(
     s = _check_scale(scale, p)
     trimesh = _trimesh()
     try:
-        mesh = trimesh.load(str(p), force="mesh", process=True)
+        # Geometry only: materials and textures (which would need Pillow) are skipped.
+        extra = {"skip_materials": True} if p.suffix.lower() == ".obj" else {}
+        mesh = trimesh.load(str(p), force="mesh", process=True, **extra)
     except Exception as e:  # trimesh raises many kinds for a bad file
         raise ValueError(f"{p}: could not be read as a {p.suffix.lower()[1:].upper()} mesh: {e}") from e
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise _core.ShapeError(f"{p}: holds no triangles")
+    # By position only: corners split for texture seams or hard normals would leave
+    # a closed surface looking open.
+    mesh.merge_vertices(merge_tex=True, merge_norm=True)
     if fix:
         trimesh.repair.fix_winding(mesh)
         trimesh.repair.fix_inversion(mesh)
@@ -97,7 +102,7 @@ def decompose(
     smaller: more parts, default 0.05); ``max_parts`` (-1: no limit); ``seed`` of
     its search (same seed, same parts)."""
     try:
-        import coacd
+        import coacd  # type: ignore[import-untyped,import-not-found,unused-ignore]
     except ImportError as e:
         raise ImportError("convex decomposition needs coacd: pip install 'rigidrs[io]'") from e
     if hasattr(coacd, "set_log_level"):

@@ -220,8 +220,8 @@ class _Reader:
             if not isinstance(parts, list):
                 raise SceneDataError(f"{path}.parts: must be an array of part tables")
             built = []
-            for k, p in enumerate(parts):
-                pp = f"{path}.parts[{k}]"
+            for n, p in enumerate(parts):
+                pp = f"{path}.parts[{n}]"
                 pk = self.table(p, schema.PART, pp)
                 built.append((
                     self.shape(pk["shape"], f"{pp}.shape"),

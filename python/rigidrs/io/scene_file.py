@@ -55,29 +55,45 @@ def _parse(p: Path, text: str, kind: str) -> Any:
         raise SceneDataError(f"{p}: malformed JSON: {e.msg} (at line {e.lineno}, column {e.colno})") from None
 
 
-_ITEM = re.compile(r"^(\w+)\[(\d+)\](?:\.(\w+))?")
+_ITEM = re.compile(r"^(\w+)\[(\d+)\]((?:\.\w+|\[\d+\])*)")
+_HEADER = re.compile(r"^\[\[?([^\]]+)\]\]?\s*$")
+_KEY = re.compile(r"^(\w+)\s*=")
 
 
 def _toml_line(text: str, message: str) -> int | None:
-    """The line of ``array[i].key`` in TOML written as ``[[array]]`` tables (as
-    ``save`` writes them), or None."""
+    """The line of ``array[i].key...`` in TOML written with ``[[array]]`` tables (as
+    ``save`` writes them): the line of the deepest part of the path found within
+    item ``i`` (array indices below it are not told apart), or None."""
     m = _ITEM.match(message)
     if not m:
         return None
-    array, index, key = m.group(1), int(m.group(2)), m.group(3)
+    array, index = m.group(1), int(m.group(2))
+    want = re.findall(r"\.(\w+)", m.group(3))
     lines = text.splitlines()
     starts = [n for n, line in enumerate(lines) if line.strip() == f"[[{array}]]"]
     if index >= len(starts):
         return None
-    start = starts[index]
-    if key:
-        for n in range(start + 1, len(lines)):
-            s = lines[n].strip()
-            if s.startswith("[") and not s.startswith(f"[{array}.") and not s.startswith(f"[[{array}."):
+    best, depth, table = starts[index] + 1, 0, []
+    for n in range(starts[index] + 1, len(lines)):
+        s = lines[n].strip()
+        h = _HEADER.match(s)
+        if h:
+            parts = [x.strip() for x in h.group(1).split(".")]
+            if parts[0] != array or len(parts) == 1:
                 break
-            if re.match(rf"^{key}\s*=", s) or s in (f"[{array}.{key}]", f"[[{array}.{key}]]"):
-                return n + 1
-    return start + 1
+            table = parts[1:]
+            key_path = table
+        else:
+            k = _KEY.match(s)
+            if not k:
+                continue
+            key_path = table + [k.group(1)]
+        matched = 0
+        while matched < min(len(key_path), len(want)) and key_path[matched] == want[matched]:
+            matched += 1
+        if matched == len(key_path) and matched > depth:
+            best, depth = n + 1, matched
+    return best
 
 
 def load_scene(path: str | os.PathLike[str]) -> _core.Scene:

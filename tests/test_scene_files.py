@@ -244,3 +244,15 @@ def test_nested_errors_point_at_their_line_and_toml_inf_reads(tmp_path: Path) ->
     assert str(info.value) == f"{path}, line {line}: bodies[1].shape.half_extent: unknown key; did you mean 'half_extents'?"
     path.write_text(text.replace("half_extent =", "half_extents ="))
     assert rr.load_scene(path).build_settings == {"dt": 0.01, "max_rotation_angle": float("inf")}
+
+
+def test_unknown_build_settings_are_refused_when_written() -> None:
+    scene = rr.Scene()
+    scene.build_settings = {"dt": 0.01, "substep": 4}
+    with pytest.raises(rr.RigidError, match=r"build\.substep: unknown build setting; did you mean 'substeps'\?"):
+        scene.to_dict()
+    scene.build_settings = {"dt": 0.01, "integrator": "leapfrog"}
+    with pytest.raises(rr.RigidError, match=r"build\.integrator: unknown name \"leapfrog\"; choose one of euler"):
+        scene.to_dict()
+    with pytest.raises(TypeError, match=r'build_settings\["dt"\] must be None, a bool, int, float or str, got list'):
+        scene.build_settings = {"dt": [0.01]}

@@ -108,12 +108,18 @@ def _particle_out(c: dict[str, Any]) -> dict[str, Any]:
 def to_dict(scene: _core.Scene) -> dict[str, Any]:
     """The scene as plain, JSON-able data following ``docs/scene_format.md``."""
     r = scene._recipe()
+    if (len(r["bodies"]), len(r["joints"])) != (len(scene), scene.joint_count):
+        # Bodies or joints added by Rust code past the Python methods leave no record.
+        raise SceneDataError(
+            f"this scene has {len(scene)} bodies and {scene.joint_count} joints but a record of "
+            f"{len(r['bodies'])} and {len(r['joints'])}: only scenes filled through the Python methods can be written"
+        )
     out: dict[str, Any] = {"format": schema.FORMAT, "schema_version": schema.SCHEMA_VERSION, "gravity": r["gravity"]}
     parts = {
         "bodies": [_body_out(b) for b in r["bodies"]],
         "joints": [_joint_out(j) for j in r["joints"]],
         "particles": [_particle_out(c) for c in r["particles"]],
-        "build": dict(scene.build_settings),
+        "build": _build_settings(_encode(dict(scene.build_settings), "build")),  # what load would refuse, refused now
     }
     out.update({k: v for k, v in parts.items() if v})
     result: dict[str, Any] = _encode(out, "scene")

@@ -14,14 +14,14 @@ import rigidrs as rr
 
 def bodies() -> tuple[rr.Scene, dict[str, Any]]:
     scene = rr.Scene(gravity=(0.1, -0.0, -9.7))
-    scene.add_body(rr.Plane((0.1, 0.2, 3.0), offset=-0.05), fixed=True, friction=0.7, static_friction=0.9, name="floor")
+    scene.add_body(rr.Plane((0.0, 0.3, 1.1), offset=-0.05), fixed=True, friction=0.7, static_friction=0.9, name="floor")
     rng = np.random.default_rng(11)
     hull = rr.ConvexHull(rng.normal(size=(14, 3)) * 0.12)
     cube_v = [(x, y, z) for z in (-0.1, 0.1) for y in (-0.1, 0.1) for x in (-0.1, 0.1)]
     cube_t = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4),
               (2, 6, 3), (3, 6, 7), (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]
     compound = rr.Compound([(rr.Sphere(0.08), (0.0, 0.0, 0.15)),
-                            (rr.Box((0.05, 0.06, 0.07)), (0.0, 0.0, -0.1), (0.1, 0.2, 0.3, 0.9)),
+                            (rr.Box((0.05, 0.06, 0.07)), (0.0, 0.0, -0.1), (0.0, 0.0, 0.3, 1.1)),
                             (rr.ConvexHull(rng.normal(size=(8, 3)) * 0.05), (0.1, 0.0, 0.0))])
     q = rng.normal(size=4)
     tensor = np.array([[0.02, 0.001, 0.0], [0.001, 0.03, -0.002], [0.0, -0.002, 0.025]])

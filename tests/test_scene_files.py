@@ -256,3 +256,29 @@ def test_unknown_build_settings_are_refused_when_written() -> None:
         scene.to_dict()
     with pytest.raises(TypeError, match=r'build_settings\["dt"\] must be None, a bool, int, float or str, got list'):
         scene.build_settings = {"dt": [0.01]}
+
+
+def test_normals_and_part_orientations_are_kept_as_given() -> None:
+    """A plane's normal and a compound part's orientation are written as given, not
+    in the normalised form the shape holds: normalising (0, 0.3, 1.1) twice moves a
+    bit, so a scene rebuilt from the normalised values would not be the same."""
+    import numpy as np
+
+    def make(normal: Any, q: Any) -> rr.Scene:
+        scene = rr.Scene()
+        scene.add_body(rr.Plane(normal), fixed=True)
+        scene.add_body(rr.Compound([(rr.Box((0.1, 0.1, 0.1)), (0, 0, 0), q)]), density=1.0, position=(0, 0, 1))
+        return scene
+
+    given = make((0.0, 0.3, 1.1), (0.0, 0.0, 0.3, 1.1))
+    shapes = given.shapes()
+    assert shapes[0] is not None and shapes[1] is not None
+    normal, q = shapes[0]["normal"], shapes[1]["parts"][0]["orientation"]
+    again = make(normal, q).shapes()
+    assert again[0] is not None and again[1] is not None
+    assert not np.array_equal(again[0]["normal"], normal)
+    assert not np.array_equal(again[1]["parts"][0]["orientation"], q)
+    d = given.to_dict()
+    assert d["bodies"][0]["shape"]["normal"] == [0.0, 0.3, 1.1]
+    assert d["bodies"][1]["shape"]["parts"][0]["orientation"] == [0.0, 0.0, 0.3, 1.1]
+    assert pickle.dumps(rr.Scene.from_dict(d)) == pickle.dumps(given)

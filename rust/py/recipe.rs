@@ -81,9 +81,10 @@ fn filter(d: &Dict<'_>, f: &Filter) -> PyResult<()> {
     d.set_item("collision_mask", f.mask)
 }
 
-fn body<'py>(py: Python<'py>, b: &BodySpec) -> PyResult<Dict<'py>> {
+/// A body's inputs; `given_shape`: its shape, kept by the compiled body.
+fn body<'py>(py: Python<'py>, b: &BodySpec, given_shape: Option<&Shape>) -> PyResult<Dict<'py>> {
     let d = PyDict::new(py);
-    d.set_item("shape", b.shape.as_ref().map(|s| shape(py, s)).transpose()?)?;
+    d.set_item("shape", given_shape.map(|s| shape(py, s)).transpose()?)?;
     d.set_item("density", b.density)?;
     d.set_item("mass", b.mass)?;
     match &b.inertia {
@@ -310,7 +311,8 @@ impl PyScene {
         let r = &self.inner.recipe;
         let d = PyDict::new(py);
         d.set_item("gravity", self.inner.gravity.to_vec())?;
-        d.set_item("bodies", r.bodies.iter().map(|b| body(py, b)).collect::<PyResult<Vec<_>>>()?)?;
+        let bodies = r.bodies.iter().zip(self.inner.bodies()).map(|(b, desc)| body(py, b, desc.shape.as_ref()));
+        d.set_item("bodies", bodies.collect::<PyResult<Vec<_>>>()?)?;
         d.set_item("joints", r.joints.iter().map(|j| joint(py, j)).collect::<PyResult<Vec<_>>>()?)?;
         d.set_item("particles", r.particles.iter().map(|c| particle_call(py, c)).collect::<PyResult<Vec<_>>>()?)?;
         Ok(d)

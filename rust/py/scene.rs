@@ -118,7 +118,9 @@ impl PyScene {
         if let Some(w) = angular_velocity {
             spec.angular_velocity = vec3(w, &field("angular_velocity"))?;
         }
-        let given = spec.clone();
+        // The shape is kept once, by the compiled body (unchanged there): a mesh's
+        // vertices and tree are not stored, pickled and saved twice.
+        let given = BodySpec { shape: None, ..spec.clone() };
         let index = self.inner.add_body(spec).py_err()?;
         self.inner.recipe.bodies.push(given);
         Ok(index)

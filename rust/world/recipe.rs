@@ -16,7 +16,8 @@ use crate::xpbd::{Compliance, ParticleSpec};
 
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Recipe {
-    /// One per body, in index order.
+    /// One per body, in index order, without its shape: that is the compiled
+    /// body's (`BodyDesc::shape`, the given shape unchanged), kept once.
     pub bodies: Vec<BodySpec>,
     /// One per joint, in index order: the geometry and the options as given.
     pub joints: Vec<(JointSpec, JointOptions)>,

@@ -188,8 +188,8 @@ def test_foreign_data_and_other_versions_are_refused(data: bytes) -> None:
     scene = pickle.dumps(rr.Scene())
     with pytest.raises(ValueError, match="another kind"):
         rr.Snapshot.from_bytes(data[:8] + b"SCEN" + data[12:])
-    newer = data[:12] + (2).to_bytes(4, "little") + data[16:]
-    with pytest.raises(ValueError, match=r"format 2\); this is rigidrs .* \(format 1\)"):
+    newer = data[:12] + (99).to_bytes(4, "little") + data[16:]
+    with pytest.raises(ValueError, match=r"format 99\); this is rigidrs .* \(format 2\)"):
         rr.Snapshot.from_bytes(newer)
     other = data.replace(rr.__version__.encode(), b"9.9.9", 1)
     with pytest.raises(ValueError, match="written by rigidrs 9.9.9"):

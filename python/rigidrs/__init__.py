@@ -37,6 +37,8 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from .io import load_scene
+from .io.methods import install as _install_file_methods
 from .view import Camera, Capture, Extras, Viewer, export_gltf, export_usd, render, view
 from .work_precision import accuracy
 
@@ -75,8 +77,11 @@ __all__ = [
     "export_gltf",
     "export_usd",
     "load",
+    "load_scene",
     "mass_properties",
     "polar_decomposition",
     "render",
     "view",
 ]
+
+_install_file_methods()

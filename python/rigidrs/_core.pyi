@@ -125,6 +125,11 @@ class ConvexHull(Shape):
     """The convex hull of ``points`` (N, 3) (m): at least 4 points spanning a volume."""
 
     def __new__(cls, points: ArrayLike) -> ConvexHull: ...
+    @classmethod
+    def from_file(cls, path: str | PathLike[str], scale: float = 1.0) -> ConvexHull:
+        """The convex hull of the vertices of an STL, OBJ, PLY, OFF or GLB/glTF file
+        (needs ``rigidrs[io]``), times ``scale`` (m per file unit, default 1). A flat
+        mesh is a ``ShapeError``; errors name the file."""
 
 @final
 class TriMesh(Shape):
@@ -132,6 +137,13 @@ class TriMesh(Shape):
     counter-clockwise seen from outside. Closed to carry mass."""
 
     def __new__(cls, vertices: ArrayLike, triangles: ArrayLike) -> TriMesh: ...
+    @classmethod
+    def from_file(cls, path: str | PathLike[str], scale: float = 1.0, fix: bool = False) -> TriMesh:
+        """A mesh from an STL, OBJ, PLY, OFF or GLB/glTF file (needs ``rigidrs[io]``;
+        a file of several meshes is flattened with their transforms), vertices times
+        ``scale`` (m per file unit, default 1). ``fix=True`` repairs winding, normals
+        and holes with trimesh first (default False). A dynamic body needs it closed
+        and outward-oriented; else use ``ConvexHull.from_file`` or ``Compound.from_file``."""
 
 @final
 class Plane(Shape):
@@ -146,11 +158,27 @@ class Compound(Shape):
     may not be meshes, planes or compounds."""
 
     def __new__(cls, parts: Any) -> Compound: ...
+    @classmethod
+    def from_file(
+        cls,
+        path: str | PathLike[str],
+        scale: float = 1.0,
+        decompose: str = "coacd",
+        threshold: float = 0.05,
+        max_parts: int = -1,
+    ) -> Compound:
+        """Convex parts of a (non-convex) mesh file, for a dynamic body (needs
+        ``rigidrs[io]``): ``decompose="coacd"`` (CoACD convex decomposition; ``threshold``
+        concavity allowed per part, default 0.05; ``max_parts``, default -1: no limit)
+        or ``"hull"`` (one part, the convex hull). ``scale`` as in ``TriMesh.from_file``."""
 
 @final
 class MassProperties:
     """Mass, centre of mass and inertia of a body, and their principal form."""
 
+    def __new__(cls, mass: float, center_of_mass: ArrayLike, inertia: ArrayLike) -> MassProperties:
+        """From ``mass`` (kg), ``center_of_mass`` (3,) (m) and ``inertia`` (3, 3) about
+        the centre of mass (kg·m², symmetric positive definite)."""
     @property
     def mass(self) -> float:
         """Mass (kg)."""
@@ -328,6 +356,29 @@ class Scene:
     @property
     def joint_count(self) -> int:
         """Number of joints added."""
+    @property
+    def build_settings(self) -> dict[str, Any]:
+        """``Scene.build`` keyword arguments kept with the scene and written to its file
+        (the file's ``build`` table): values None, bool, int, float or str; default
+        empty. ``scene.build(**scene.build_settings)`` builds with them."""
+    @build_settings.setter
+    def build_settings(self, settings: dict[str, Any]) -> None: ...
+    def _recipe(self) -> dict[str, Any]:
+        """The calls that filled the scene, as given (what ``to_dict`` writes)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The scene as plain JSON-able data (dicts, lists, str, float, int, bool):
+        every call that filled it, as given, keys at their default left out, floats
+        exact, infinities as ``"inf"``. ``Scene.from_dict`` rebuilds a scene that
+        steps bit for bit the same. Schema: ``docs/scene_format.md``."""
+    @classmethod
+    def from_dict(cls, data: Any, base_dir: str | PathLike[str] | None = None) -> Scene:
+        """A new scene from ``to_dict`` data; ``base_dir``: folder that mesh ``file``
+        entries are relative to (default the current directory). Errors name the
+        path inside the data (``bodies[3].density: must be positive and finite, got -1``);
+        nothing is built on error."""
+    def save(self, path: str | PathLike[str]) -> None:
+        """Writes ``to_dict()`` to ``path``, ``.toml`` or ``.json`` (through a temporary
+        file renamed over it); ``rigidrs.load_scene`` reads it back."""
     def shapes(self) -> list[dict[str, Any] | None]:
         """The bodies' shapes as ``World.shapes()`` will give them."""
     def build(

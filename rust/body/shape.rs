@@ -32,10 +32,13 @@ pub enum ShapeKind {
     ConvexHull { points: Arc<Vec<[f64; 3]>> },
     /// A triangle mesh (m); closed and outward-oriented to carry mass.
     TriMesh { vertices: Arc<Vec<[f64; 3]>>, triangles: Arc<Vec<[u32; 3]>> },
-    /// The half-space `normal · x ≤ offset` (unit normal, offset in m): only for fixed bodies.
-    Plane { normal: [f64; 3], offset: f64 },
-    /// Convex parts at poses in this shape's frame.
-    Compound { parts: Arc<Vec<(Isometry3<f64>, Shape)>> },
+    /// The half-space `normal · x ≤ offset` (unit normal, offset in m): only for
+    /// fixed bodies. `given`: the normal as given (any length), kept so that a
+    /// scene file rebuilds the same bits.
+    Plane { normal: [f64; 3], offset: f64, given: [f64; 3] },
+    /// Convex parts at poses in this shape's frame; `orientations`: each part's
+    /// orientation (x, y, z, w) as given, before normalisation (for scene files).
+    Compound { parts: Arc<Vec<(Isometry3<f64>, Shape)>>, orientations: Arc<Vec<[f64; 4]>> },
 }
 
 /// A validated shape: its description, parry's collision shape and the pose of
@@ -113,7 +116,7 @@ impl Shape {
         }
         let unit = Unit::new_normalize(n / big);
         let pose = Isometry3::from_parts(Translation3::from(unit.into_inner() * offset), UnitQuaternion::identity());
-        let kind = ShapeKind::Plane { normal: unit.into_inner().into(), offset };
+        let kind = ShapeKind::Plane { normal: unit.into_inner().into(), offset, given: normal };
         Ok(Self::new(kind, SharedShape::halfspace(unit), pose))
     }
 
@@ -167,6 +170,13 @@ impl Shape {
     /// A union of shapes at poses (in this shape's frame). Parts may not be
     /// meshes, planes or compounds themselves.
     pub fn compound(parts: Vec<(Isometry3<f64>, Shape)>) -> Result<Self> {
+        let given = parts.iter().map(|(p, _)| p.rotation.coords.into()).collect();
+        Self::compound_as_given(parts, given)
+    }
+
+    /// [`Shape::compound`], keeping each part's orientation as the user gave it
+    /// (`given`, one per part) for [`ShapeKind::Compound`].
+    pub fn compound_as_given(parts: Vec<(Isometry3<f64>, Shape)>, given: Vec<[f64; 4]>) -> Result<Self> {
         if parts.is_empty() {
             return Err(Error::shape("Compound needs at least one part"));
         }
@@ -180,7 +190,7 @@ impl Shape {
             }
             parry_parts.push((pose * part.parry_pose, part.parry.clone()));
         }
-        let kind = ShapeKind::Compound { parts: Arc::new(parts) };
+        let kind = ShapeKind::Compound { parts: Arc::new(parts), orientations: Arc::new(given) };
         Ok(Self::new(kind, SharedShape::compound(parry_parts), Isometry3::identity()))
     }
 
@@ -328,7 +338,10 @@ fn check_closed_outward(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result
     for (&(a, b), &count) in &edges {
         if count != 1 || edges.get(&(b, a)) != Some(&1) {
             return Err(Error::shape(format!(
-                "TriMesh is not a closed, consistently oriented surface (edge {a}-{b}): it has no volume to carry mass"
+                "TriMesh is not a closed, consistently oriented surface (edge {a}-{b}): it has no volume to carry mass. \
+                 For a dynamic body repair it (TriMesh.from_file(path, fix=True)), use its convex hull \
+                 (ConvexHull.from_file) or convex parts (Compound.from_file(path, decompose=\"coacd\")), \
+                 or give mass= with inertia=; a fixed or kinematic body may be open"
             )));
         }
     }

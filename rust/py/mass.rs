@@ -18,6 +18,20 @@ pub struct PyMassProperties {
 
 #[pymethods]
 impl PyMassProperties {
+    /// Mass properties from their parts: `mass` (kg), `center_of_mass` (3,) (m) and
+    /// `inertia` (3, 3) about the centre of mass (kg·m², symmetric positive definite).
+    #[new]
+    fn new(mass: f64, center_of_mass: &Bound<'_, PyAny>, inertia: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let com = super::convert::vec3(center_of_mass, "center_of_mass")?;
+        let (v, shape) = super::convert::float_array(inertia, "inertia")?;
+        if shape != [3, 3] {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!("inertia must have shape (3, 3), got {shape:?}")));
+        }
+        let inertia = crate::math::Mat3::from_row_slice(&v);
+        let inner = MassProps { mass, com: crate::math::Vec3::from(com), inertia };
+        inner.validate("MassProperties").py_err()?;
+        Ok(Self { inner })
+    }
     /// Mass (kg).
     #[getter]
     fn mass(&self) -> f64 {

@@ -8,6 +8,7 @@ mod errors;
 mod joints;
 mod mass;
 mod polar;
+mod recipe;
 mod recording;
 mod shape_readback;
 mod particles;

@@ -19,6 +19,7 @@ use crate::math::{quat, Vec3};
 use crate::world::scene::pose;
 use crate::xpbd::builders::{self, Material};
 use crate::xpbd::shape_matching::{plasticity, ClusterSpec, Mode};
+use crate::world::recipe::{ParticleCall, Source};
 use crate::xpbd::{Compliance, ParticleSpec};
 
 /// Local particle indices of a builder (negative ones are out of range).
@@ -104,7 +105,9 @@ impl PyScene {
         spec.fixed = fixed;
         spec.friction = friction;
         spec.filter = filter;
-        self.inner.add_particle(&spec).py_err()
+        let index = self.inner.add_particle(&spec).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::Particle(spec));
+        Ok(index)
     }
 
     /// Number of particles added so far.
@@ -129,7 +132,9 @@ impl PyScene {
     #[pyo3(signature = (p, q, *, compliance=0.0, damping=0.0, rest_length=None))]
     fn add_distance_constraint(&mut self, p: i64, q: i64, compliance: f64, damping: f64, rest_length: Option<f64>) -> PyResult<usize> {
         let k = self::compliance(self, "distance", compliance, damping)?;
-        self.inner.add_distance_constraint(p, q, k, rest_length).py_err()
+        let index = self.inner.add_distance_constraint(p, q, k, rest_length).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::Distance { p, q, k, rest_length });
+        Ok(index)
     }
 
     /// Dihedral bending over the edge p0–p1 with tips p2 and p3; returns its index.
@@ -137,7 +142,9 @@ impl PyScene {
     #[allow(clippy::too_many_arguments)]
     fn add_bending_constraint(&mut self, p0: i64, p1: i64, p2: i64, p3: i64, compliance: f64, damping: f64) -> PyResult<usize> {
         let k = self::compliance(self, "bending", compliance, damping)?;
-        self.inner.add_bending_constraint([p0, p1, p2, p3], k).py_err()
+        let index = self.inner.add_bending_constraint([p0, p1, p2, p3], k).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::Bending { p: [p0, p1, p2, p3], k });
+        Ok(index)
     }
 
     /// Volume of the tetrahedron of 4 particles; returns its index.
@@ -147,7 +154,9 @@ impl PyScene {
         let p: Vec<i64> = particles.extract()?;
         let p = <[i64; 4]>::try_from(p.as_slice())
             .map_err(|_| PyValueError::new_err(format!("particles must hold 4 particle indices, got {}", p.len())))?;
-        self.inner.add_volume_constraint(p, k).py_err()
+        let index = self.inner.add_volume_constraint(p, k).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::Volume { p, k });
+        Ok(index)
     }
 
     /// Volume of a closed particle mesh; returns its index.
@@ -155,7 +164,9 @@ impl PyScene {
     fn add_mesh_volume_constraint(&mut self, triangles: &Bound<'_, PyAny>, compliance: f64, damping: f64, pressure: f64) -> PyResult<usize> {
         let k = self::compliance(self, "mesh volume", compliance, damping)?;
         let t = index_rows::<3>(triangles, "triangles")?;
-        self.inner.add_mesh_volume_constraint(&t, pressure, k).py_err()
+        let index = self.inner.add_mesh_volume_constraint(&t, pressure, k).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::MeshVolume { triangles: t, pressure, k });
+        Ok(index)
     }
 
     /// Attaches a particle to a body; returns the constraint index.
@@ -172,7 +183,9 @@ impl PyScene {
     ) -> PyResult<usize> {
         let k = self::compliance(self, "attachment", compliance, damping)?;
         let point = point.map(|p| vec3(p, "point")).transpose()?;
-        self.inner.add_attachment(particle, body, point, rest_length, k).py_err()
+        let index = self.inner.add_attachment(particle, body, point, rest_length, k).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::Attachment { particle, body, point, rest_length, k });
+        Ok(index)
     }
 
     /// A shape-matching cluster over `particles`; returns the cluster index.
@@ -194,7 +207,9 @@ impl PyScene {
         let spec = cluster_spec(mode, stiffness, beta, preserve_volume, plastic_yield, plastic_creep, plastic_max)
             .map_err(|e| e.context(format!("cluster {index}")))
             .py_err()?;
-        self.inner.add_shape_matching(&particles, spec).py_err()
+        let index = self.inner.add_shape_matching(&particles, spec).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::ShapeMatching { particles, spec });
+        Ok(index)
     }
 
     /// A rope of `segments` distance constraints; returns its particles' range.
@@ -216,11 +231,14 @@ impl PyScene {
         collision_group: i64,
         collision_mask: i64,
     ) -> PyResult<Bound<'py, PyRange>> {
+        let given = pinned.clone();
         let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
         let filter = particle_filter(collision_group, collision_mask, "particles")?;
         let mat = Material { mass, radius, friction, filter };
-        let r = self.inner.add_rope(vec3(start, "start")?, vec3(end, "end")?, segments, &mat, k, &pinned).py_err()?;
+        let (start, end) = (vec3(start, "start")?, vec3(end, "end")?);
+        let r = self.inner.add_rope(start, end, segments, &mat, k, &pinned).py_err()?;
+        self.inner.recipe.particles.push(ParticleCall::Rope { start, end, segments, mat, k, pinned: given });
         range(py, r)
     }
 
@@ -247,6 +265,7 @@ impl PyScene {
         collision_group: i64,
         collision_mask: i64,
     ) -> PyResult<Bound<'py, PyRange>> {
+        let given = pinned.clone();
         let pinned = local_indices(&pinned, "pinned")?;
         let k = Compliance::new(compliance, damping).py_err()?;
         if bending_compliance.is_none() && bending_damping.is_some() {
@@ -256,7 +275,10 @@ impl PyScene {
         let filter = particle_filter(collision_group, collision_mask, "particles")?;
         let mat = Material { mass, radius, friction, filter };
         let (o, u, v) = (vec3(origin, "origin")?, vec3(u, "u")?, vec3(v, "v")?);
-        let r = self.inner.add_cloth(o, u, v, [resolution.0, resolution.1], &mat, k, kb, &pinned).py_err()?;
+        let resolution = [resolution.0, resolution.1];
+        let r = self.inner.add_cloth(o, u, v, resolution, &mat, k, kb, &pinned).py_err()?;
+        let call = ParticleCall::Cloth { origin: o, u, v, resolution, mat, k, bending: kb, pinned: given };
+        self.inner.recipe.particles.push(call);
         range(py, r)
     }
 
@@ -284,7 +306,10 @@ impl PyScene {
         let filter = particle_filter(collision_group, collision_mask, "particles")?;
         let mat = Material { mass, radius, friction, filter };
         let (c, h) = (vec3(center, "center")?, vec3(half_extents, "half_extents")?);
-        let r = self.inner.add_soft_box(c, h, [cells.0, cells.1, cells.2], &mat, k, kv).py_err()?;
+        let cells = [cells.0, cells.1, cells.2];
+        let r = self.inner.add_soft_box(c, h, cells, &mat, k, kv).py_err()?;
+        let call = ParticleCall::SoftBox { center: c, half_extents: h, cells, mat, k, volume: kv };
+        self.inner.recipe.particles.push(call);
         range(py, r)
     }
 
@@ -320,25 +345,33 @@ impl PyScene {
         let spec = cluster_spec(mode, stiffness, beta, preserve_volume, plastic_yield, plastic_creep, plastic_max)
             .map_err(|e| e.context(format!("cluster {index}")))
             .py_err()?;
+        let given;
         let local = match source.cast::<PyShape>() {
             Ok(shape) => {
                 let s = spacing.ok_or_else(|| PyValueError::new_err("spacing (m) is required to fill a shape with particles"))?;
+                given = Source::Shape(shape.get().inner.clone());
                 builders::fill_shape(&shape.get().inner, s).py_err()?
             }
             Err(_) => {
                 if spacing.is_some() {
                     return Err(PyValueError::new_err("spacing applies to a shape source, not to points"));
                 }
-                rows3(source, "points")?
+                let points = rows3(source, "points")?;
+                given = Source::Points(points.clone());
+                points
             }
         };
-        let p = position.map(|p| vec3(p, "position")).transpose()?.unwrap_or([0.0; 3]);
-        let q = orientation.map(|q| vec4(q, "orientation")).transpose()?.unwrap_or([0.0, 0.0, 0.0, 1.0]);
+        let position = position.map(|p| vec3(p, "position")).transpose()?;
+        let orientation = orientation.map(|q| vec4(q, "orientation")).transpose()?;
+        let p = position.unwrap_or([0.0; 3]);
+        let q = orientation.unwrap_or([0.0, 0.0, 0.0, 1.0]);
         let iso = pose(p, q).py_err()?;
         let points: Vec<[f64; 3]> = local.iter().map(|x| (iso * nalgebra::Point3::from(Vec3::from(*x))).coords.into()).collect();
         let filter = particle_filter(collision_group, collision_mask, "particles")?;
         let mat = Material { mass, radius, friction, filter };
         let (r, ids) = self.inner.add_shape_matched_body(&points, &mat, spec, cluster_size).py_err()?;
+        let call = ParticleCall::ShapeMatchedBody { source: given, spacing, position, orientation, mat, spec, cluster_size };
+        self.inner.recipe.particles.push(call);
         Ok((range(py, r)?, ids))
     }
 }

@@ -118,7 +118,12 @@ impl PyScene {
         if let Some(w) = angular_velocity {
             spec.angular_velocity = vec3(w, &field("angular_velocity"))?;
         }
-        self.inner.add_body(spec).py_err()
+        // The shape is kept once, by the compiled body (unchanged there): a mesh's
+        // vertices and tree are not stored, pickled and saved twice.
+        let given = BodySpec { shape: None, ..spec.clone() };
+        let index = self.inner.add_body(spec).py_err()?;
+        self.inner.recipe.bodies.push(given);
+        Ok(index)
     }
 
     /// Adds a joint and returns its index. See the stub for the parameters.
@@ -172,7 +177,10 @@ impl PyScene {
         let index = self.inner.joints().len();
         let spec = joints::spec(&args, index)?;
         let options = joints::options(&args, index)?;
-        self.inner.add_joint_with(spec, options).py_err()
+        let given = (spec.clone(), options.clone());
+        let index = self.inner.add_joint_with(spec, options).py_err()?;
+        self.inner.recipe.joints.push(given);
+        Ok(index)
     }
 
     /// Number of joints added.

@@ -50,11 +50,11 @@ fn describe<'py>(py: Python<'py>, shape: &Shape, pose: &Isometry3<f64>) -> PyRes
             d.set_item("vertices", points(py, vertices.iter().copied())?)?;
             d.set_item("triangles", triangles(py, t)?)?;
         }
-        ShapeKind::Plane { normal, offset } => {
+        ShapeKind::Plane { normal, offset, .. } => {
             d.set_item("normal", PyArray1::from_slice(py, normal))?;
             d.set_item("offset", offset)?;
         }
-        ShapeKind::Compound { parts } => {
+        ShapeKind::Compound { parts, .. } => {
             let list = parts.iter().map(|(p, s)| describe(py, s, p)).collect::<PyResult<Vec<_>>>()?;
             d.set_item("parts", list)?;
         }

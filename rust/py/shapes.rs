@@ -38,8 +38,8 @@ impl PyShape {
             ShapeKind::TriMesh { vertices, triangles } => {
                 format!("TriMesh(<{} vertices, {} triangles>)", vertices.len(), triangles.len())
             }
-            ShapeKind::Plane { normal, offset } => format!("Plane(normal={normal:?}, offset={offset})"),
-            ShapeKind::Compound { parts } => format!("Compound(<{} parts>)", parts.len()),
+            ShapeKind::Plane { normal, offset, .. } => format!("Plane(normal={normal:?}, offset={offset})"),
+            ShapeKind::Compound { parts, .. } => format!("Compound(<{} parts>)", parts.len()),
         }
     }
 }
@@ -175,6 +175,7 @@ impl PyCompound {
     #[new]
     fn new(parts: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
         let mut out = Vec::new();
+        let mut given = Vec::new();
         let items = parts.try_iter().map_err(|_| {
             pyo3::exceptions::PyTypeError::new_err("Compound parts must be a sequence of (shape, position[, orientation]) tuples")
         })?;
@@ -201,8 +202,9 @@ impl PyCompound {
             };
             let pose = crate::world::scene::pose(p, q).map_err(|e| e.context(&name)).py_err()?;
             out.push((pose, shape.get().inner.clone()));
+            given.push(q);
         }
-        Ok(base(Shape::compound(out))?.add_subclass(Self))
+        Ok(base(Shape::compound_as_given(out, given))?.add_subclass(Self))
     }
 }
 

@@ -11,7 +11,9 @@ use crate::error::{Error, Result};
 
 const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// Bumped whenever the payload's layout changes.
-pub const FORMAT_VERSION: u32 = 1;
+/// 2: scenes keep the calls that filled them (`recipe`), planes their given
+/// normal, compounds their parts' given orientations.
+pub const FORMAT_VERSION: u32 = 2;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

@@ -12,6 +12,7 @@ pub mod link_contacts;
 pub mod particles;
 pub mod pipeline;
 pub mod profile;
+pub mod recipe;
 pub mod scene;
 pub mod scene_bytes;
 pub mod settings;

@@ -101,6 +101,9 @@ pub struct Scene {
     pub(crate) joint_options: Vec<super::joints::JointOptions>,
     /// Particles, their constraints and clusters (see `world::particles`).
     pub(crate) xpbd: crate::xpbd::XpbdModel,
+    /// The calls that filled the scene, as given (see `super::recipe`): what a
+    /// scene file holds. Filled by the Python bindings.
+    pub recipe: super::recipe::Recipe,
 }
 
 impl Default for Scene {
@@ -111,6 +114,7 @@ impl Default for Scene {
             joints: Vec::new(),
             joint_options: Vec::new(),
             xpbd: Default::default(),
+            recipe: Default::default(),
         }
     }
 }

@@ -25,7 +25,10 @@ impl Plasticity {
     pub fn validate(&self) -> Result<()> {
         non_negative("plastic_yield", self.yield_strain)?;
         non_negative("plastic_creep", self.creep)?;
-        non_negative("plastic_max", self.max)?;
+        // Unbounded (inf) is the documented default; NaN and negatives are refused.
+        if !(self.max >= 0.0) {
+            return Err(crate::error::Error::input(format!("plastic_max must be non-negative (inf: no cap), got {}", self.max)));
+        }
         Ok(())
     }
 }

@@ -37,6 +37,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from . import io
 from .view import Camera, export_gltf, render
 from .work_precision import accuracy
 
@@ -70,6 +71,7 @@ __all__ = [
     "__version__",
     "accuracy",
     "export_gltf",
+    "io",
     "load",
     "mass_properties",
     "polar_decomposition",

@@ -177,3 +177,25 @@ def test_bad_files_raise_and_build_nothing(tmp_path: Path) -> None:
                     '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>')
     with pytest.raises(rr.io.ModelError, match=r"<joint> 'back'.*loop"):
         rr.Scene.from_urdf(write(tmp_path, loop, "loop.urdf"))
+
+
+def test_report_travels_with_copies_and_pickles(tmp_path: Path) -> None:
+    import copy
+    import pickle
+
+    scene = rr.Scene.from_urdf(write(tmp_path, pendulum()))
+    n = len(scene.import_report)
+    assert n > 0
+    for other in (copy.copy(scene), copy.deepcopy(scene), pickle.loads(pickle.dumps(scene))):
+        assert len(other.import_report) == n and str(other.import_report) == str(scene.import_report)
+    hand_made = rr.Scene()
+    assert len(hand_made.import_report) == 0 and "nothing" in str(hand_made.import_report)
+
+
+def test_mass_properties_given_directly() -> None:
+    mp = rr.MassProperties(2.0, (0.1, 0, 0), [[0.02, 0.001, 0], [0.001, 0.03, 0], [0, 0, 0.04]])
+    assert mp.mass == 2.0 and np.allclose(mp.center_of_mass, [0.1, 0, 0])
+    with pytest.raises(rr.RigidError, match="mass"):
+        rr.MassProperties(-1.0, None, (1, 1, 1))
+    with pytest.raises(rr.RigidError, match="triangle"):
+        rr.MassProperties(1.0, None, (1, 1, 3))

@@ -145,7 +145,16 @@ def from_mjcf(cls: Any, path: str | os.PathLike[str], *, drives: Any = None, sel
     heaviest = max([l.mass for l in links] + [1.0])
     for l in links:
         settle_mass(l, l.com, report, heaviest)
-    return build_scene(links, joints, tuple(model.opt.gravity), report, self_collision)
+    flags = int(model.opt.disableflags)
+    gravity = tuple(model.opt.gravity)
+    if flags & int(mujoco.mjtDisableBit.mjDSBL_GRAVITY):
+        gravity = (0.0, 0.0, 0.0)
+        report.add("option.flag", "gravity", MAPPED, "gravity disabled in the file: the scene has none")
+    if flags & int(mujoco.mjtDisableBit.mjDSBL_CONTACT):
+        for l in links:
+            l.filter = (0, 0)
+        report.add("option.flag", "contact", MAPPED, "contacts disabled in the file: no shape collides")
+    return build_scene(links, joints, gravity, report, self_collision)
 
 
 def _report_model(model: Any, report: ImportReport, lines: dict) -> None:

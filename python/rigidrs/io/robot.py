@@ -134,6 +134,9 @@ def hinge_limits(lo: float, hi: float, name: str, report: ImportReport, line: in
         report.add("joint.limit", name, DROPPED, f"range [{lo:.4g}, {hi:.4g}] rad spans a full turn: "
                    "the hinge turns freely", line)
         return None
+    if lo > 0 or hi < 0:
+        report.add("joint.limit", name, APPROXIMATED, f"the file's pose (0) is outside the range [{lo:.4g}, {hi:.4g}]: "
+                   "the limit pushes the joint in at the first step; pose it inside with world.set_joint_positions", line)
     if lo < -math.pi or hi > math.pi:
         report.add("joint.limit", name, APPROXIMATED, f"range [{lo:.4g}, {hi:.4g}] rad clipped to "
                    "[-pi, pi] (hinge limits are angles within a turn)", line)
@@ -188,11 +191,16 @@ def settle_mass(link: Link, anchor_local: np.ndarray, report: ImportReport, refe
         return
     w, v = np.linalg.eigh(0.5 * (link.inertia + link.inertia.T))
     floor = max(1e-9 * max(w.max(), 0.0), link.mass * 1e-10)
-    if w.min() < floor:
-        link.inertia = v @ np.diag(np.maximum(w, floor)) @ v.T
+    fixed = np.maximum(w, floor)
+    # A rigid body's moments obey I_k <= I_i + I_j (the sum of the other two): a file that
+    # breaks it gets its largest moment lowered to that sum.
+    if fixed[2] > (fixed[0] + fixed[1]) * (1 + 1e-9):
+        fixed[2] = fixed[0] + fixed[1]
+    if np.any(fixed != w):
+        link.inertia = v @ np.diag(fixed) @ v.T
         report.add("inertial", link.name, APPROXIMATED,
-                   f"inertia not positive definite (principal moments {np.round(w, 12).tolist()} kg m^2): "
-                   f"floored at {floor:.3g}")
+                   f"inertia not physical (principal moments {np.round(w, 12).tolist()} kg m^2: not positive, or "
+                   f"one above the sum of the other two): taken as {np.round(fixed, 12).tolist()}")
 
 
 def build_scene(links: list[Link], joints: list[Joint], gravity: Any, report: ImportReport,

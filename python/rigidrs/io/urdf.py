@@ -49,6 +49,22 @@ def _lines(root: Any) -> dict[tuple[str, str], int]:
     return out
 
 
+def _check_names(root: Any, path: Path) -> None:
+    """The attributes yourdfpy needs, checked first so that the error names the line."""
+    if root.tag != "robot":
+        raise ModelError(f"{path}, line {root.sourceline}: the root element is <{root.tag}>, not <robot>")
+    needs = {"robot": ("name",), "link": ("name",), "joint": ("name", "type")}
+    for el in [root, *root]:
+        for attr in needs.get(el.tag, ()) if isinstance(el.tag, str) else ():
+            if el.get(attr) is None:
+                raise ModelError(f"{path}, line {el.sourceline}: <{el.tag}> has no {attr!r} attribute")
+        if el.tag == "joint":
+            for part in ("parent", "child"):
+                sub = el.find(part)
+                if sub is None or sub.get("link") is None:
+                    raise ModelError(f"{where(str(path), 'joint', el.get('name'), el.sourceline)}: no <{part} link=...>")
+
+
 def _report_tags(root: Any, path: Path, report: ImportReport) -> None:
     """Everything outside links, joints and materials; visuals; joint parts without a counterpart."""
     for el in root:
@@ -114,10 +130,16 @@ def _mesh_hull(file: Path, scale: Any, link: str, what: str, report: ImportRepor
     except Exception as e:  # trimesh raises many kinds for a bad file
         raise ModelError(f"{what}: cannot read mesh {file}: {e}") from e
     v = np.asarray(mesh.vertices, dtype=float) * (1.0 if scale is None else np.asarray(scale, dtype=float))
-    try:
-        hull = rr.ConvexHull(v)
-    except ValueError as e:
-        raise ModelError(f"{what}: mesh {file} has no volume for a convex hull: {e}") from e
+    hull = None
+    try:  # qhull's hull first (fewer points; parry's own can fail on large scans)
+        hull = rr.ConvexHull(np.asarray(trimesh.convex.convex_hull(v).vertices, dtype=float))
+    except Exception:  # no scipy, or a flat mesh: parry on the raw points decides
+        pass
+    if hull is None:
+        try:
+            hull = rr.ConvexHull(v)
+        except ValueError as e:
+            raise ModelError(f"{what}: mesh {file} has no volume for a convex hull: {e}") from e
     report.add("collision.mesh", link, APPROXIMATED, "mesh collided as its convex hull", line)
     return hull
 
@@ -203,6 +225,7 @@ def from_urdf(cls: Any, path: str | os.PathLike[str], package_map: Mapping[str, 
     if not path.is_file():
         raise FileNotFoundError(f"URDF file not found: {path}")
     tree = _xml_tree(path)
+    _check_names(tree.getroot(), path)
     lines = _lines(tree.getroot())
     try:
         urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False,

@@ -24,15 +24,16 @@ PLANE, HFIELD, SPHERE, CAPSULE, ELLIPSOID, CYLINDER, BOX, MESH = range(8)
 FREE, BALL, SLIDE, HINGE = range(4)
 TRN_JOINT = 0
 GAIN_FIXED, BIAS_NONE, BIAS_AFFINE = 0, 0, 1
-# Model parts with no counterpart: (count field, element name, why).
-UNSUPPORTED = (("ntendon", "tendon", "tendons are not modelled"),
-               ("nsensor", "sensor", "sensors are not modelled (read the world's state instead)"),
-               ("neq", "equality", "equality constraints are not modelled"),
-               ("nexclude", "contact.exclude", "contact exclusions are not kept (self-collision is off by default)"),
-               ("npair", "contact.pair", "explicit contact pairs are not kept"),
-               ("nflex", "flex", "flexes are not modelled"),
-               ("nskin", "skin", "skins are visual only"),
-               ("nkey", "key", "keyframes are not read (use world.set_joint_positions)"))
+# Model parts with no counterpart: (count field, accessor, tag in the file, element, why).
+UNSUPPORTED = (("ntendon", "tendon", "tendon", "tendon", "tendons are not modelled"),
+               ("nsensor", "sensor", "sensor", "sensor", "sensors are not modelled (read the world's state instead)"),
+               ("neq", "equality", "equality", "equality", "equality constraints are not modelled"),
+               ("nexclude", "exclude", "exclude", "contact.exclude",
+                "contact exclusions are not kept (the model's links do not touch each other by default)"),
+               ("npair", "pair", "pair", "contact.pair", "explicit contact pairs are not kept"),
+               ("nflex", "flex", "flex", "flex", "flexes are not modelled"),
+               ("nskin", "skin", "skin", "skin", "skins are visual only"),
+               ("nkey", "key", "key", "key", "keyframes are not read (use world.set_joint_positions)"))
 
 
 def _mujoco() -> Any:
@@ -138,7 +139,6 @@ def from_mjcf(cls: Any, path: str | os.PathLike[str], *, drives: Any = None, sel
     _report_model(model, report, lines)
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
-    mujoco.mj_comPos(model, data)
     bodies = [_pose(data.xpos[b], data.xmat[b]) for b in range(model.nbody)]
     links, joints, body_of = _links_and_joints(model, data, bodies, report, lines, drives)
     _geoms(model, data, bodies, links, body_of, report, lines, self_collision)
@@ -158,12 +158,10 @@ def from_mjcf(cls: Any, path: str | os.PathLike[str], *, drives: Any = None, sel
 
 
 def _report_model(model: Any, report: ImportReport, lines: dict) -> None:
-    for count, element, why in UNSUPPORTED:
+    for count, accessor, tag, element, why in UNSUPPORTED:
         for i in range(int(getattr(model, count, 0))):
-            kind = element.split(".")[-1] if element != "contact.exclude" else "exclude"
-            name = getattr(model, {"contact.exclude": "exclude", "contact.pair": "pair"}.get(element, element))(i).name \
-                if hasattr(model, {"contact.exclude": "exclude", "contact.pair": "pair"}.get(element, element)) else None
-            report.add(element, name or None, DROPPED, why, lines.get((kind, name)) if name else None)
+            name = getattr(model, accessor)(i).name if hasattr(model, accessor) else ""
+            report.add(element, name or None, DROPPED, why, lines.get((tag, name)) if name else None)
     report.add("option.timestep", None, MAPPED, f"the file's timestep {model.opt.timestep:g} s is not a setting "
                "of the scene: pass dt= to build()")
 
@@ -182,6 +180,8 @@ def _links_and_joints(model: Any, data: Any, bodies: list, report: ImportReport,
         name = _name(model, "body", b)
         if n == 0:
             body_of[b] = parent
+            if int(model.body_mocapid[b]) >= 0:
+                report.add("body.mocap", name, APPROXIMATED, "mocap body: fixed at its pose", lines.get(("body", name)))
         elif int(model.jnt_type[adr]) == FREE:
             links.append(Link(name, bodies[b]))
             body_of[b] = len(links) - 1

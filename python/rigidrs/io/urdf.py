@@ -220,40 +220,53 @@ def from_urdf(cls: Any, path: str | os.PathLike[str], package_map: Mapping[str, 
     Raises ``FileNotFoundError`` for a missing file, ``rigidrs.io.ModelError`` (a
     ``rigidrs.RigidError``) naming the file, element and line for a bad one; nothing is
     built then."""
-    yourdfpy = _need("yourdfpy")
     path = Path(path)
+    robot, tree, lines = _read(path)
+    report = ImportReport(source=str(path))
+    _report_tags(tree.getroot(), path, report)
+    root, _ = _check_tree(robot, path, lines)
+    order = _order(root, robot)
+    if len(order) != len(robot.joints):
+        raise ModelError(f"{path}: some links are not reachable from the root {root!r} (a loop)")
+    # World pose of every link frame at q = 0.
+    pose = {root: np.eye(4)}
+    for j in order:
+        pose[j.child] = pose[j.parent] @ _origin(j.origin)
+    links, joints, body_of = _bodies(robot, root, order, pose, fixed_base, friction, drives, report, lines)
+    _fill_links(robot, body_of, links, pose, path, package_map, report, lines)
+    heaviest = max([l.mass for l in links] + [1.0])
+    for l in links:
+        settle_mass(l, np.zeros(3), report, heaviest)
+    return build_scene(links, joints, gravity, report, self_collision)
+
+
+def _read(path: Path) -> tuple[Any, Any, dict]:
+    """The robot as yourdfpy reads it, the lxml tree and the lines of named elements."""
+    yourdfpy = _need("yourdfpy")
     if not path.is_file():
         raise FileNotFoundError(f"URDF file not found: {path}")
     tree = _xml_tree(path)
     _check_names(tree.getroot(), path)
-    lines = _lines(tree.getroot())
     try:
         urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
     except Exception as e:  # yourdfpy's parse errors for missing attributes and values
         raise ModelError(f"{path}: not a valid URDF: {e}") from e
-    robot = urdf.robot
-    report = ImportReport(source=str(path))
-    _report_tags(tree.getroot(), path, report)
-    root, parent_joint = _check_tree(robot, path, lines)
-    order = _order(root, robot)
-    if len(order) != len(robot.joints):
-        raise ModelError(f"{path}: some links are not reachable from the root {root!r} (a loop)")
+    return urdf.robot, tree, _lines(tree.getroot())
+
+
+def _bodies(robot: Any, root: str, order: list[Any], pose: dict, fixed_base: bool, friction: float,
+            drives: Any, report: ImportReport, lines: dict) -> tuple[list[Link], list[Joint], dict[str, int]]:
+    """One body per link moved by a joint (links tied by a fixed or unsupported joint merge
+    into their parent's body), the joints between them, and the body of every link."""
     by_name = {l.name: l for l in robot.links}
-    # World pose of every link frame at q = 0.
-    pose = {root: np.eye(4)}
-    for j in order:
-        pose[j.child] = pose[j.parent] @ _origin(j.origin)
-    # Links tied to their parent by a fixed (or unsupported) joint merge into the parent's body.
-    body_of: dict[str, int] = {}
-    links: list[Link] = []
     root_massless = by_name[root].inertial is None or not (by_name[root].inertial.mass or 0) > 0
     fixed_root = fixed_base or (root == "world" and root_massless)
     if not fixed_base and fixed_root:
         report.add("link", root, MAPPED, "a massless root named 'world' is the world: the base is fixed",
                    lines.get(("link", root)))
-    links.append(Link(root, pose[root], fixed=fixed_root, friction=friction))
-    body_of[root] = 0
+    links = [Link(root, pose[root], fixed=fixed_root, friction=friction)]
+    body_of = {root: 0}
     joints: list[Joint] = []
     for j in order:
         line = lines.get(("joint", j.name))
@@ -275,15 +288,11 @@ def from_urdf(cls: Any, path: str | os.PathLike[str], package_map: Mapping[str, 
             continue
         links.append(Link(j.child, pose[j.child], friction=friction))
         body_of[j.child] = len(links) - 1
-        joints.append(_joint(j, kind, body_of, links, pose, report, line, drives))
-    _fill_links(robot, by_name, body_of, links, pose, path, package_map, report, lines)
-    heaviest = max([l.mass for l in links] + [1.0])
-    for l in links:
-        settle_mass(l, np.zeros(3), report, heaviest)
-    return build_scene(links, joints, gravity, report, self_collision)
+        joints.append(_joint(j, kind, body_of, pose, report, line, drives))
+    return links, joints, body_of
 
 
-def _joint(j: Any, kind: str, body_of: dict, links: list[Link], pose: dict, report: ImportReport,
+def _joint(j: Any, kind: str, body_of: dict, pose: dict, report: ImportReport,
            line: int | None, drives: Any) -> Joint:
     t = pose[j.child]
     axis = np.asarray(j.axis if j.axis is not None else (1.0, 0.0, 0.0), dtype=float)
@@ -315,9 +324,10 @@ def _joint(j: Any, kind: str, body_of: dict, links: list[Link], pose: dict, repo
     return out
 
 
-def _fill_links(robot: Any, by_name: dict, body_of: dict, links: list[Link], pose: dict, path: Path,
+def _fill_links(robot: Any, body_of: dict, links: list[Link], pose: dict, path: Path,
                 package_map: Any, report: ImportReport, lines: dict) -> None:
     """Mass and collision parts of every link, into the body it belongs to (frame of that body)."""
+    by_name = {l.name: l for l in robot.links}
     for name, b in body_of.items():
         link, body = by_name[name], links[b]
         rel = np.linalg.inv(body.pose) @ pose[name]

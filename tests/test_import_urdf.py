@@ -199,3 +199,46 @@ def test_mass_properties_given_directly() -> None:
         rr.MassProperties(-1.0, None, (1, 1, 1))
     with pytest.raises(rr.RigidError, match="triangle"):
         rr.MassProperties(1.0, None, (1, 1, 3))
+
+
+SIBLINGS = """<robot name="siblings">
+  <link name="base"/>
+  <link name="left"><inertial><mass value="1"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial>
+    <collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.1 0.1"/></geometry></collision></link>
+  <link name="right"><inertial><mass value="1"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial>
+    <collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.1 0.1"/></geometry></collision></link>
+  <joint name="a" type="continuous"><parent link="base"/><child link="left"/><axis xyz="0 1 0"/></joint>
+  <joint name="b" type="continuous"><parent link="base"/><child link="right"/><origin xyz="0 0.05 0"/><axis xyz="0 1 0"/></joint>
+</robot>
+"""
+
+
+def test_self_collision_is_off_unless_asked(tmp_path: Path) -> None:
+    # Two sibling links, not tied by a joint, whose boxes overlap by 0.05 m across y at build:
+    # a contact between them exists only with self_collision=True.
+    path = write(tmp_path, SIBLINGS, "siblings.urdf")
+    pairs = []
+    for self_collision in (False, True):
+        world = rr.Scene.from_urdf(path, self_collision=self_collision).build(dt=1 / 240)
+        world.step(1)
+        c = world.contacts()
+        pairs.append({tuple(sorted((int(a), int(b)))) for a, b in zip(c["body_a"], c["body_b"])})
+    assert world.bodies.names == ["base", "left", "right"]
+    assert (1, 2) not in pairs[0]
+    assert (1, 2) in pairs[1]
+
+
+def test_package_found_through_ros_package_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    share = tmp_path / "ws" / "share"
+    (share / "kit" / "meshes").mkdir(parents=True)
+    trimesh.creation.icosphere(radius=0.1).export(share / "kit" / "meshes" / "ball.stl")
+    text = pendulum().replace('<sphere radius="0.1"/></geometry></collision>',
+                              '<mesh filename="package://kit/meshes/ball.stl"/></geometry></collision>')
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    path = write(elsewhere, text)
+    with pytest.raises(rr.io.ModelError, match="mesh file not found"):
+        rr.Scene.from_urdf(path)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(share))
+    assert rr.Scene.from_urdf(path).shapes()[1]["kind"] == "Compound"

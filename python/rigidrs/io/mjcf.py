@@ -233,8 +233,12 @@ def _joint(model: Any, data: Any, j: int, a: int, b: int, report: ImportReport, 
         else:
             out.limits = (lo, hi)
     stiffness = float(model.jnt_stiffness[j])
-    if t != BALL and j in actuated:
+    if t == BALL and j in actuated:
+        report.add("actuator", name, DROPPED, "actuator on a ball joint (drives here are for hinges and slides)", line)
+    elif j in actuated:
         out.drive, out.max_force = actuated[j](ref)
+        if stiffness > 0:
+            report.add("joint.stiffness", name, DROPPED, f"spring {stiffness:g}: the joint's actuator is its drive", line)
     elif stiffness > 0 and t != BALL:
         target = float(model.qpos_spring[model.jnt_qposadr[j]]) - ref
         out.drive = rr.Drive(mode="position", target=target, stiffness=stiffness)
@@ -244,7 +248,7 @@ def _joint(model: Any, data: Any, j: int, a: int, b: int, report: ImportReport, 
     own = pick_drive(drives, name) if t != BALL else None
     if own is not None:
         if out.drive is not None:
-            report.add("actuator", name, APPROXIMATED, "the file's drive on this joint replaced by drives=", line)
+            report.add("joint.drive", name, APPROXIMATED, "the file's drive (actuator or spring) replaced by drives=", line)
         out.drive = own
     return out
 

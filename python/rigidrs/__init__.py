@@ -37,6 +37,7 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from . import io
 from .io import load_scene
 from .io.methods import install as _install_file_methods
 from .view import Camera, Capture, Extras, Viewer, export_gltf, export_usd, render, view
@@ -76,6 +77,7 @@ __all__ = [
     "accuracy",
     "export_gltf",
     "export_usd",
+    "io",
     "load",
     "load_scene",
     "mass_properties",

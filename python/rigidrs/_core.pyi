@@ -1,7 +1,7 @@
 """Typed interface of the compiled core. SI units; quaternions (x, y, z, w)."""
 import os
 from os import PathLike
-from typing import Any, Sequence, TypeAlias, final
+from typing import Any, Mapping, Sequence, TypeAlias, final
 
 import numpy as np
 import numpy.typing as npt
@@ -176,9 +176,12 @@ class Compound(Shape):
 class MassProperties:
     """Mass, centre of mass and inertia of a body, and their principal form."""
 
-    def __new__(cls, mass: float, center_of_mass: ArrayLike, inertia: ArrayLike) -> MassProperties:
-        """From ``mass`` (kg), ``center_of_mass`` (3,) (m) and ``inertia`` (3, 3) about
-        the centre of mass (kg·m², symmetric positive definite)."""
+    def __new__(cls, mass: float, center_of_mass: ArrayLike | None = None, inertia: ArrayLike | None = None) -> MassProperties:
+        """Given directly: ``mass`` (kg), ``center_of_mass`` (3,) (m, default the origin),
+        ``inertia`` (3,) principal moments or (3, 3) tensor about the centre of mass
+        (kg·m², required). Raises ``RigidError`` for a non-positive mass, a non-finite
+        centre, or an inertia that is not symmetric positive definite."""
+
     @property
     def mass(self) -> float:
         """Mass (kg)."""
@@ -260,7 +263,33 @@ class Scene:
     def __copy__(self) -> Scene:
         """An independent copy; so are ``copy.deepcopy`` and ``pickle`` round trips."""
     def __deepcopy__(self, memo: Any) -> Scene: ...
-    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+    def __reduce__(self) -> tuple[Any, tuple[bytes], Any]: ...
+    def __setstate__(self, state: Any) -> None: ...
+    @property
+    def import_report(self) -> Any:
+        """What the file an importer read had that was dropped or approximated, and why: a
+        ``rigidrs.io.ImportReport`` (a list of ``ReportEntry``; ``print`` it to read it);
+        empty for a scene built by hand. Writable (any object, or None)."""
+    @import_report.setter
+    def import_report(self, report: Any) -> None: ...
+    @classmethod
+    def from_urdf(
+        cls,
+        path: str | PathLike[str],
+        package_map: Mapping[str, str | PathLike[str]] | None = None,
+        fixed_base: bool = True,
+        *,
+        drives: Any = None,
+        self_collision: bool = False,
+        friction: float = 0.5,
+        gravity: ArrayLike | None = None,
+    ) -> Scene:
+        """The robot of a URDF file (needs ``pip install 'rigidrs[io]'``); see
+        ``rigidrs.io.urdf.from_urdf`` for the parameters."""
+    @classmethod
+    def from_mjcf(cls, path: str | PathLike[str], *, drives: Any = None, self_collision: bool = False) -> Scene:
+        """The model of an MJCF file (needs ``pip install 'rigidrs[mjcf]'``); see
+        ``rigidrs.io.mjcf.from_mjcf`` for the parameters."""
     def add_body(
         self,
         shape: Shape | None = None,

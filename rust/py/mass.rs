@@ -3,7 +3,7 @@
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
-use super::convert::{rows3, scalar_or_vector};
+use super::convert::{rows3, scalar_or_vector, vec3};
 use super::errors::IntoPy;
 use crate::body::density::DensitySamples;
 use crate::body::MassProps;
@@ -18,17 +18,26 @@ pub struct PyMassProperties {
 
 #[pymethods]
 impl PyMassProperties {
-    /// Mass properties from their parts: `mass` (kg), `center_of_mass` (3,) (m) and
-    /// `inertia` (3, 3) about the centre of mass (kg·m², symmetric positive definite).
+    /// Mass properties given directly: `mass` (kg), `center_of_mass` (3,) (m, default
+    /// the origin) and `inertia` (3,) principal moments or (3, 3) tensor about the
+    /// centre of mass (kg·m²). Checked: positive mass, finite centre, symmetric
+    /// positive-definite inertia.
     #[new]
-    fn new(mass: f64, center_of_mass: &Bound<'_, PyAny>, inertia: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let com = super::convert::vec3(center_of_mass, "center_of_mass")?;
-        let (v, shape) = super::convert::float_array(inertia, "inertia")?;
-        if shape != [3, 3] {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!("inertia must have shape (3, 3), got {shape:?}")));
-        }
-        let inertia = crate::math::Mat3::from_row_slice(&v);
-        let inner = MassProps { mass, com: crate::math::Vec3::from(com), inertia };
+    #[pyo3(signature = (mass, center_of_mass=None, inertia=None))]
+    fn new(mass: f64, center_of_mass: Option<&Bound<'_, PyAny>>, inertia: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let com = match center_of_mass {
+            Some(c) => vec3(c, "center_of_mass")?,
+            None => [0.0; 3],
+        };
+        let inertia = match inertia {
+            Some(i) => super::scene::inertia_arg(i, "inertia")?,
+            None => return Err(pyo3::exceptions::PyValueError::new_err("inertia is required: (3,) principal moments or a (3, 3) tensor (kg·m²)")),
+        };
+        let tensor = match inertia {
+            crate::world::Inertia::Principal(m) => crate::math::Mat3::from_diagonal(&crate::math::Vec3::from(m)),
+            crate::world::Inertia::Tensor(t) => crate::math::Mat3::from_fn(|r, c| t[r][c]),
+        };
+        let inner = MassProps { mass, com: crate::math::Vec3::from(com), inertia: tensor };
         inner.validate("MassProperties").py_err()?;
         Ok(Self { inner })
     }

@@ -21,6 +21,9 @@ use crate::world::{BodySpec, Inertia, Scene, Settings};
 #[pyclass(name = "Scene", module = "rigidrs._core")]
 pub struct PyScene {
     pub(crate) inner: Scene,
+    /// What an importer (`Scene.from_urdf`, `from_mjcf`) dropped or approximated;
+    /// `None` until one sets it (read as an empty report).
+    pub(crate) import_report: Option<Py<PyAny>>,
 }
 
 /// A 32-bit collision filter word.
@@ -28,7 +31,7 @@ pub(crate) fn bits(x: i64, name: &str) -> PyResult<u32> {
     u32::try_from(x).map_err(|_| PyValueError::new_err(format!("{name} must be a 32-bit mask in [0, 2^32), got {x}")))
 }
 
-fn inertia_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Inertia> {
+pub(crate) fn inertia_arg(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Inertia> {
     let (v, shape) = float_array(obj, name)?;
     match shape.as_slice() {
         [3] => Ok(Inertia::Principal([v[0], v[1], v[2]])),
@@ -46,7 +49,7 @@ impl PyScene {
             Some(g) => vec3(g, "gravity")?,
             None => [0.0, 0.0, -9.81],
         };
-        Ok(Self { inner: Scene::new(g).py_err()? })
+        Ok(Self { inner: Scene::new(g).py_err()?, import_report: None })
     }
 
     /// Gravitational acceleration (3,) (m/s²).
@@ -57,6 +60,25 @@ impl PyScene {
 
     fn __len__(&self) -> usize {
         self.inner.bodies().len()
+    }
+
+    /// What the file an importer read had that was dropped or approximated, and why
+    /// (`rigidrs.io.ImportReport`, a list of entries); empty for a scene built by hand.
+    #[getter]
+    fn get_import_report(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        if let Some(r) = &self.import_report {
+            return Ok(r.clone_ref(py));
+        }
+        let empty = py.import("rigidrs.io.report").and_then(|m| m.getattr("ImportReport")).and_then(|c| c.call0());
+        match empty {
+            Ok(r) => Ok(r.unbind()),
+            Err(_) => Ok(pyo3::types::PyList::empty(py).into_any().unbind()),
+        }
+    }
+
+    #[setter]
+    fn set_import_report(&mut self, report: Option<Py<PyAny>>) {
+        self.import_report = report;
     }
 
     /// Adds a body and returns its index. See the stub for the parameters.

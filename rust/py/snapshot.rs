@@ -142,22 +142,37 @@ impl PyWorld {
 
 #[pymethods]
 impl PyScene {
-    fn __copy__(&self) -> PyScene {
-        PyScene { inner: self.inner.clone() }
+    fn __copy__(&self, py: Python<'_>) -> PyScene {
+        let import_report = self.import_report.as_ref().map(|r| r.clone_ref(py));
+        PyScene { inner: self.inner.clone(), import_report }
     }
 
-    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> PyScene {
-        PyScene { inner: self.inner.clone() }
+    fn __deepcopy__(&self, py: Python<'_>, memo: &Bound<'_, PyAny>) -> PyResult<PyScene> {
+        let copy = py.import("copy")?.getattr("deepcopy")?;
+        let import_report = match &self.import_report {
+            Some(r) => Some(copy.call1((r.bind(py), memo))?.unbind()),
+            None => None,
+        };
+        Ok(PyScene { inner: self.inner.clone(), import_report })
     }
 
-    /// Pickles as bytes in the snapshot frame.
-    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
-        let data = slf.try_borrow()?.inner.to_bytes().py_err()?;
-        Ok((slf.get_type().getattr("_from_bytes")?, (PyBytes::new(slf.py(), &data),)))
+    /// Pickles as bytes in the snapshot frame (and the import report, if any, as state).
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,), Option<Py<PyAny>>)> {
+        let this = slf.try_borrow()?;
+        let data = this.inner.to_bytes().py_err()?;
+        let state = this.import_report.as_ref().map(|r| r.clone_ref(slf.py()));
+        Ok((slf.get_type().getattr("_from_bytes")?, (PyBytes::new(slf.py(), &data),), state))
+    }
+
+    fn __setstate__(&mut self, state: Option<Py<PyAny>>) {
+        self.import_report = state;
     }
 
     #[staticmethod]
     fn _from_bytes(data: &[u8]) -> PyResult<PyScene> {
-        Ok(PyScene { inner: Scene::from_bytes(data).py_err()? })
+        Ok(PyScene { inner: Scene::from_bytes(data).py_err()?, import_report: None })
     }
 }

@@ -1,5 +1,7 @@
-"""Models in: scene files (TOML/JSON, core only) and mesh files (through trimesh,
-``pip install 'rigidrs[io]'``).
+"""Models in: scene files (TOML/JSON, core only), mesh files (through trimesh,
+``pip install 'rigidrs[io]'``), URDF (``rr.Scene.from_urdf``) and MJCF
+(``rr.Scene.from_mjcf``) importers and the report of what they dropped or
+approximated (``scene.import_report``).
 
 ``scene.to_dict()`` / ``Scene.from_dict(d)``, ``scene.save(path)`` /
 ``load_scene(path)``, ``TriMesh.from_file``, ``ConvexHull.from_file`` and
@@ -7,18 +9,31 @@
 """
 from __future__ import annotations
 
+from .. import _core
 from .mesh import compound_from_file, convex_hull_from_file, decompose, load_mesh, trimesh_from_file
+from .mjcf import from_mjcf
+from .report import ImportReport, ReportEntry
+from .robot import ModelError
 from .scene_dict import SceneDataError, from_dict, to_dict
 from .scene_file import load_scene, save
 from .schema import SCHEMA_VERSION
+from .urdf import from_urdf
+
+setattr(_core.Scene, "from_urdf", classmethod(from_urdf))
+setattr(_core.Scene, "from_mjcf", classmethod(from_mjcf))
 
 __all__ = [
     "SCHEMA_VERSION",
+    "ImportReport",
+    "ModelError",
+    "ReportEntry",
     "SceneDataError",
     "compound_from_file",
     "convex_hull_from_file",
     "decompose",
     "from_dict",
+    "from_mjcf",
+    "from_urdf",
     "load_mesh",
     "load_scene",
     "save",

@@ -379,3 +379,34 @@ def test_a_link_that_asks_for_ccd_keeps_its_system_xpbd() -> None:
     scene.add_joint("hinge", a, None, anchor=(0, 0, 1.0), axis=(0, 1, 0))
     world = scene.build(dt=FRAME)
     assert "joints" in world.stages and world.articulations() == []
+
+
+def test_contact_along_a_hinge_axis_does_not_blow_up() -> None:
+    """Regression: a contact whose normal lies along the hinges' axis (a fixed
+    cylinder overlapping the root link of a horizontal two-link arm, the hand on
+    the floor) has a response of round-off (1e-31 to 1e-63 of the free body's)
+    and a rank-one tangent mass; their plain inverses pushed with 1e31 and more:
+    NaN in the first step. With a cylinder as wide as the capsule the contacts
+    push only along z, which nothing can move the arm along: it must stay
+    exactly where it is. A thinner one (radius 5 mm) is also met sideways and
+    pushes the arm out of the overlap: the step must stay finite (it was NaN in
+    the second step)."""
+    q = (0, -0.7071067811865476, 0, 0.7071067811865476)  # capsule axis along x
+    for root_radius in (0.011, 0.005):
+        s = rr.Scene(gravity=(0, 0, -9.81))
+        arm = s.add_body(rr.Compound([(rr.Capsule(0.01, 0.06), (0.06, 0, 0), q)]), mass=0.0419, position=(0, 0, 0.01),
+                         collision_group=1 << 30, collision_mask=0xFFFFFFFF & ~(1 << 30))
+        s.add_joint("hinge", arm, None, anchor=(0, 0, 0.01), axis=(0, 0, 1))
+        hand = s.add_body(rr.Compound([(rr.Capsule(0.01, 0.05), (0.05, 0, 0), q), (rr.Sphere(0.01), (0.12, 0, 0))]),
+                          mass=0.0398, position=(0.12, 0, 0.01),
+                          collision_group=1 << 30, collision_mask=0xFFFFFFFF & ~(1 << 30))
+        s.add_joint("hinge", hand, arm, anchor=(0.12, 0, 0.01), axis=(0, 0, 1), limits=(-2.79, 2.79))
+        s.add_body(rr.Plane(), fixed=True)
+        s.add_body(rr.Cylinder(root_radius, 0.01), fixed=True, position=(0, 0, 0.01))
+        world = s.build(dt=1 / 240)
+        start = world.bodies.position.copy()
+        world.step(240)
+        assert np.all(np.isfinite(world.bodies.position)) and np.all(np.isfinite(world.joints.velocity))
+        if root_radius == 0.011:
+            assert np.max(np.abs(world.joints.position)) <= 1e-12
+            assert np.max(np.abs(world.bodies.position - start)) <= 1e-12

@@ -49,7 +49,8 @@ fn nearest_on_disk(k: [f64; 3], target: [f64; 2], r: f64) -> [f64; 2] {
     }
     let [a, b, c] = k;
     let radial = [target[0] * r / norm, target[1] * r / norm];
-    if !(a > 0.0 && c > 0.0 && a * c - b * b > 0.0) {
+    // Of rank one (see `rows::tangent_mass`): the cone's edge in the one direction.
+    if !(a > 0.0 && c > 0.0 && a * c - b * b > 1e-9 * a * c) {
         return radial;
     }
     let kt = [a * target[0] + b * target[1], b * target[0] + c * target[1]];

@@ -21,6 +21,11 @@ enum Along {
     Couple(Vec3),
 }
 
+
+/// Response along a row, as a fraction of the free bodies' (`1/m + (r×d)ᵀI⁻¹(r×d)`),
+/// below which the links cannot move along it at all.
+const IMMOBILE: f64 = 1e-12;
+
 impl ContactSolver {
     /// Copies the joint velocities of the articulations in contact and builds
     /// the rows of every constraint touching a link. Each articulation's last
@@ -79,7 +84,7 @@ impl ContactSolver {
             let t = first as usize + c.len as usize;
             let b = self.cross(t, t + 1);
             let det = a * cc - b * b;
-            self.patches[ci].tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
+            self.patches[ci].tangent_mass = tangent_mass(a, b, cc, det);
             self.gen.constraints[g].k = [a, b, cc];
         }
         let twist_mass = if twist {
@@ -140,7 +145,7 @@ impl ContactSolver {
     /// Appends the row of `c` along `along` and returns its `K`.
     fn push_row(&mut self, c: &Constraint, along: Along, arts: &mut Articulations) -> f64 {
         let mut row = Row::default();
-        let mut k = 0.0;
+        let (mut k, mut free) = (0.0, 0.0);
         // The articulated sides: (articulation, link, spatial force, sign).
         let mut links: [Option<(usize, usize, Vec6, f64)>; 2] = [None, None];
         for (i, (s, b, sign)) in [(c.s1, c.b1, -1.0), (c.s2, c.b2, 1.0)].into_iter().enumerate() {
@@ -152,6 +157,7 @@ impl ContactSolver {
                 Along::Force { d, r } => (d, r[i].cross(&d)),
                 Along::Couple(d) => (Vec3::zeros(), d),
             };
+            free += lin.norm_squared() * sb.inv_m + ang.dot(&(sb.inv_i * ang));
             match self.gen.link(b) {
                 Some((a, link)) => {
                     let f = match along {
@@ -192,6 +198,13 @@ impl ContactSolver {
             gen.jac.extend_from_slice(&gen.scratch_j);
             gen.resp.extend_from_slice(&gen.scratch_r);
         }
+        // A direction the joints do not let the links move along (a contact
+        // normal along a hinge's axis) comes out of the response as round-off,
+        // 1e-31 to 1e-63 of the free body's: its inverse would push with 1e31
+        // and more (NaN in one step).
+        if k <= IMMOBILE * free {
+            k = 0.0;
+        }
         row.k = k;
         self.gen.rows.push(row);
         k
@@ -216,3 +229,25 @@ impl ContactSolver {
         k
     }
 }
+
+/// Inverse of the tangent effective mass `[[a, b], [b, c]]` (`det` its
+/// determinant). Where the links can move along one tangent direction only (a
+/// contact on a hinge's axis) the matrix is of rank one and its determinant
+/// round-off: its inverse there is the pseudo-inverse `K / tr(K)²`, friction
+/// along the one direction that moves (the plain inverse pushed with 1e40).
+fn tangent_mass(a: f64, b: f64, c: f64, det: f64) -> [f64; 3] {
+    let trace = a + c;
+    if det > RANK_ONE * a * c && det > 0.0 {
+        [c / det, -b / det, a / det]
+    } else if trace > 0.0 {
+        let t2 = trace * trace;
+        [a / t2, b / t2, c / t2]
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// `det / (a c)` of a tangent effective mass below which it is taken as of rank
+/// one: `1 − cos²` of the angle between its two rows.
+const RANK_ONE: f64 = 1e-9;
+

@@ -9,6 +9,8 @@ in (x, y, z, w) order. :func:`accuracy` runs the work-precision report.
 from ._core import (
     ARTICULATION_INTEGRATORS,
     INTEGRATORS,
+    Batch,
+    BatchBodies,
     Bodies,
     Box,
     Capsule,
@@ -37,12 +39,15 @@ from ._core import (
     mass_properties,
     polar_decomposition,
 )
+from .scale import SweepError, SweepFailure, sweep
 from .view import Camera, export_gltf, render
 from .work_precision import accuracy
 
 __all__ = [
     "ARTICULATION_INTEGRATORS",
     "INTEGRATORS",
+    "Batch",
+    "BatchBodies",
     "Bodies",
     "Camera",
     "Box",
@@ -65,6 +70,8 @@ __all__ = [
     "Snapshot",
     "Sphere",
     "StateError",
+    "SweepError",
+    "SweepFailure",
     "TriMesh",
     "World",
     "__version__",
@@ -74,4 +81,5 @@ __all__ = [
     "mass_properties",
     "polar_decomposition",
     "render",
+    "sweep",
 ]

@@ -350,6 +350,7 @@ class Scene:
         articulation_integrator: str = "leapfrog",
         articulation_substeps: int | None = None,
         max_rotation_angle: float | None = None,
+        threads: int | None = None,
     ) -> World:
         """Compiles the scene.
 
@@ -386,7 +387,9 @@ class Scene:
         angle a body may turn by per rotation substep of the split integrators, taken at the
         largest ``|ω|`` of its free orbit; an asymmetric body that would turn more per step
         takes that many more rotation substeps, alone (stage ``rotate_fast``); ``math.inf``
-        never subdivides (the bare method)."""
+        never subdivides (the bare method). Threads: ``threads`` (≥ 1, default None: every
+        core) worker threads for the world's own parallel work; every count gives the same
+        bits."""
     @property
     def particle_count(self) -> int:
         """Number of particles added so far."""

@@ -273,6 +273,50 @@ impl Guard {
     }
 }
 
+impl Guard {
+    /// Puts `w` back to the state it had after `target` steps (its step count),
+    /// by the checkpoint and a replay of the log, as `roll_back` does but
+    /// stopping there: what a batch does to the copies that went on past the
+    /// step at which another copy failed. False (and `w` untouched) when the
+    /// checkpoint is later than `target` or `w` is not past it.
+    pub fn rewind(&mut self, w: &mut World, target: u64) -> bool {
+        let Some(cp) = self.checkpoint.as_deref() else { return false };
+        if cp.steps > target || w.steps < target {
+            return false;
+        }
+        if w.steps == target {
+            return true;
+        }
+        let mut probe = cp.clone();
+        let replayed = catch_unwind(AssertUnwindSafe(|| {
+            for c in &mut self.calls {
+                // A call starting at `target` still counts for what the user
+                // wrote before it (its steps are the ones undone).
+                if probe.steps > target || (probe.steps == target && c.inputs.is_none()) {
+                    break;
+                }
+                if let Some(i) = &mut c.inputs {
+                    i.write(&mut probe);
+                }
+                if c.prepare {
+                    probe.prepare();
+                }
+                let src = probe.kick_sources();
+                let k = c.steps.min(target - probe.steps);
+                for _ in 0..k {
+                    probe.one_step(&src);
+                }
+                probe.finish();
+            }
+        }));
+        if replayed.is_err() || probe.steps != target || w.restore(&probe).is_err() {
+            return false;
+        }
+        self.stale = true;
+        true
+    }
+}
+
 /// Why a step failed.
 enum Failure {
     NotFinite,

@@ -130,7 +130,7 @@ def test_gravity_and_mass_per_copy() -> None:
 def test_bad_parameters_are_refused_and_change_nothing() -> None:
     batch = rr.Batch(pile(), copies=2, dt=DT)
     before = bits(batch.bodies.position)
-    with pytest.raises(rr.RigidError, match='unknown batch parameter "frcition".*friction.*restitution.*gravity.*mass"):
+    with pytest.raises(rr.RigidError, match='unknown batch parameter "frcition".*friction.*restitution.*gravity.*mass'):
         batch.set("frcition", [0.1, 0.2])
     with pytest.raises(ValueError, match=r"friction must have shape \(2,\) or \(2, 21\)"):
         batch.set("friction", [0.1, 0.2, 0.3])

@@ -50,3 +50,8 @@ def test_bad_arguments() -> None:
     with pytest.raises(ValueError, match="chunksize must be a positive integer"):
         rr.sweep(slide, MUS, chunksize=0)
     assert rr.sweep(slide, [], progress=False) == []
+
+
+def test_a_lambda_runs_in_processes_through_cloudpickle() -> None:
+    pytest.importorskip("cloudpickle")  # comes with the dask extra (in the test extra)
+    assert rr.sweep(lambda x: x * x, [1, 2, 3], progress=False, max_workers=1) == [1, 4, 9]

@@ -16,6 +16,7 @@ import importlib
 import math
 import multiprocessing
 import os
+import pickle
 import sys
 import traceback
 from collections.abc import Callable, Iterable, Sequence
@@ -48,8 +49,12 @@ class SweepError(RuntimeError):
         super().__init__(f"{len(failures)} of {len(results)} runs failed:\n{lines}")
 
 
-def _run_chunk(run: Callable[[Any], Any], items: list[tuple[int, Any]]) -> list[tuple[int, bool, Any]]:
-    """Runs one chunk where it was sent: ``(index, ok, result or failure)``."""
+def _run_chunk(run: Callable[[Any], Any] | bytes, items: list[tuple[int, Any]]) -> list[tuple[int, bool, Any]]:
+    """Runs one chunk where it was sent: ``(index, ok, result or failure)``;
+    ``run`` may come as cloudpickle's bytes (see ``_portable``)."""
+    if isinstance(run, bytes):
+        run = pickle.loads(run)
+    assert callable(run)
     out: list[tuple[int, bool, Any]] = []
     for index, p in items:
         try:
@@ -104,14 +109,34 @@ def _workers(client: Any, max_workers: int | None) -> int:
     return max_workers or os.cpu_count() or 1
 
 
+def _portable(run: Callable[[Any], Any]) -> Callable[[Any], Any] | bytes:
+    """``run`` as the worker processes can load it: itself when pickle takes it
+    (a module-level function), else cloudpickle's bytes of it (a lambda, a
+    function of a notebook or a script), when cloudpickle is installed."""
+    try:
+        pickle.dumps(run)
+        return run
+    except Exception:
+        try:
+            cloudpickle = importlib.import_module("cloudpickle")
+        except ImportError:
+            raise TypeError(
+                f"sweep: {run!r} cannot be sent to worker processes (define it at module level, "
+                "or pip install cloudpickle, which rigidrs[dask] brings)"
+            ) from None
+        data: bytes = cloudpickle.dumps(run)
+        return data
+
+
 def _local(
     run: Callable[[Any], Any], chunks: list[list[tuple[int, Any]]], workers: int, tick: Callable[[list[Any]], None]
 ) -> None:
     # spawn, not fork: a forked child of a process whose worlds started worker
     # threads can deadlock, and spawn behaves the same on every platform.
     ctx = multiprocessing.get_context("spawn")
+    portable = _portable(run)
     with ProcessPoolExecutor(max_workers=min(workers, len(chunks)) or 1, mp_context=ctx) as pool:
-        futures: dict[Future[Any], list[tuple[int, Any]]] = {pool.submit(_run_chunk, run, c): c for c in chunks}
+        futures: dict[Future[Any], list[tuple[int, Any]]] = {pool.submit(_run_chunk, portable, c): c for c in chunks}
         for fut in as_completed(futures):
             tick(_collect(fut, futures[fut]))
 

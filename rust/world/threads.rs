@@ -17,7 +17,11 @@ use crate::error::{Error, Result};
 pub fn resolve(threads: Option<u32>) -> usize {
     match threads {
         Some(n) => n.max(1) as usize,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        None => {
+            // Asked once: it reads the process's CPU set and cgroup quota.
+            static CORES: OnceLock<usize> = OnceLock::new();
+            *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        }
     }
 }
 

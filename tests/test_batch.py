@@ -193,3 +193,42 @@ def test_a_diverging_copy_is_named_and_the_batch_goes_back_before_its_step() -> 
     assert_copy_is(batch, 0, world)
     assert_copy_is(batch, 2, world)
     assert np.isfinite(batch.bodies.position).all()
+
+
+SIGINT_SCRIPT = """
+import sys
+import numpy as np
+sys.path.insert(0, {tests!r})
+from test_batch import pile, DT
+import rigidrs as rr
+batch = rr.Batch(pile(), copies=4, dt=DT, threads=2)
+print("ready", flush=True)
+try:
+    batch.step(10**7)
+except KeyboardInterrupt:
+    k = batch.steps
+    world = pile().build(DT)
+    world.step(k)
+    same = all(np.array_equal(batch.bodies.position[i], world.bodies.position) for i in range(4))
+    print("interrupted", k, same, flush=True)
+    raise
+"""
+
+
+def test_ctrl_c_stops_every_copy_at_one_step_boundary() -> None:
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    p = subprocess.Popen([sys.executable, "-c", SIGINT_SCRIPT.format(tests=str(Path(__file__).parent))],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout is not None and p.stdout.readline().strip() == "ready"
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    assert p.returncode != 0 and "KeyboardInterrupt" in err, err
+    words = out.split()
+    # Every copy at the same step, and bitwise the world stepped alone that far.
+    assert words[0] == "interrupted" and int(words[1]) > 0 and words[2] == "True", out

@@ -4,6 +4,7 @@
 //! each `step` copies it into the worlds first and back after, O(B·N).
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use numpy::ndarray::{ArrayView, IxDyn};
@@ -21,9 +22,9 @@ use crate::world::{Scene, World};
 
 /// How often a long `step(n)` takes the GIL to run Python's signal handlers.
 const SIGNAL_CHECK: Duration = Duration::from_millis(20);
-/// A round (every copy `k` steps) is made long enough to cost this much, so
-/// that waiting for the slowest copy at its end costs little.
-const ROUND: Duration = Duration::from_millis(5);
+/// How often this thread looks whether the copies are done (and for Ctrl-C,
+/// which `SIGNAL_CHECK` spaces out).
+const POLL: Duration = Duration::from_millis(2);
 
 #[pyclass(name = "Batch", module = "rigidrs._core")]
 pub struct PyBatch {
@@ -100,22 +101,21 @@ impl PyBatch {
         }
     }
 
-    /// Steps every copy `n` steps in rounds, checking for Ctrl-C between two.
+    /// Steps every copy `n` steps on the pool while this thread (the one that
+    /// holds Python's signal handlers) checks for Ctrl-C and sets `stop`.
     fn run(&mut self, n: u64, interrupted: &mut dyn FnMut() -> bool) -> crate::Result<()> {
-        let (mut done, mut k) = (0u64, 1u64);
-        while done < n {
-            if done > 0 && interrupted() {
-                break;
+        let stop = AtomicBool::new(false);
+        let core = &mut self.core;
+        std::thread::scope(|s| {
+            let worker = s.spawn(|| core.step(n, &stop));
+            while !worker.is_finished() {
+                std::thread::sleep(POLL);
+                if !stop.load(Ordering::Relaxed) && interrupted() {
+                    stop.store(true, Ordering::Relaxed);
+                }
             }
-            let kk = k.min(n - done);
-            let t0 = Instant::now();
-            self.core.round(kk)?;
-            done += kk;
-            if t0.elapsed() < ROUND {
-                k = k.saturating_mul(2);
-            }
-        }
-        Ok(())
+            worker.join().unwrap_or_else(|p| std::panic::resume_unwind(p))
+        })
     }
 }
 

@@ -3,6 +3,8 @@
 //! nothing outside itself). Per-copy parameters change a copy's scene, and the
 //! copy is built again from it.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use super::guard::{exposed, Guard};
@@ -95,34 +97,99 @@ impl Batch {
         Ok(())
     }
 
-    /// Steps every copy `k` steps in parallel (one `step_guarded` call each).
-    /// On a failure every copy is put back to the step before the earliest
-    /// failing one (when the guards can replay to it) and the error names the
-    /// copy; `Ok` otherwise.
-    pub fn round(&mut self, k: u64) -> Result<()> {
+    /// Steps every copy `n` steps in parallel, each copy one `step_guarded`
+    /// call on one thread (its state stays in that core's cache for all its
+    /// steps). `stop` (set by the caller on Ctrl-C, or here when a copy fails)
+    /// makes every copy stop at its next step boundary; the copies are then
+    /// brought to one step count: the furthest after a stop, the step before
+    /// the earliest failure after a failure (copies past it are rewound by
+    /// their guards, those short of it step on). The error names the copy.
+    pub fn step(&mut self, n: u64, stop: &AtomicBool) -> Result<()> {
         let start = self.worlds.first().map_or(0, |w| w.steps);
         let results: Vec<Result<u64>> = threads::install(self.threads(), || {
             self.worlds
                 .par_iter_mut()
                 .zip(self.guards.par_iter_mut())
                 .with_max_len(1)
-                .map(|(w, g)| w.step_guarded(g, k, &mut || false))
+                .map(|(w, g)| {
+                    let r = w.step_guarded(g, n, &mut || stop.load(Ordering::Relaxed));
+                    if r.is_err() {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    r
+                })
                 .collect()
         });
-        let failed = results
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, r)| r.err().map(|e| (self.worlds[i].steps, i, e)))
-            .min_by_key(|(steps, i, _)| (*steps, *i));
-        let Some((target, copy, err)) = failed else { return Ok(()) };
-        let stuck: Vec<usize> = threads::install(self.threads(), || {
+        let mut failed: Option<(u64, usize, Error)> = None;
+        for (i, r) in results.into_iter().enumerate() {
+            if let Err(e) = r {
+                let at = self.worlds[i].steps;
+                if failed.as_ref().is_none_or(|(t, _, _)| at < *t) {
+                    failed = Some((at, i, e));
+                }
+            }
+        }
+        let Some((mut target, mut copy, mut err)) = failed else {
+            let furthest = self.worlds.iter().map(|w| w.steps).max().unwrap_or(start);
+            return match self.align(furthest) {
+                Ok(_) => Ok(()),
+                Err((_, i, e)) => self.failed(i, e, start),
+            };
+        };
+        // Copies short of the failing step step on to it; one may fail earlier.
+        loop {
+            match self.align(target) {
+                Ok(stuck) => return Err(self.report(copy, err, target, start, &stuck)),
+                Err((at, i, e)) => (target, copy, err) = (at, i, e),
+            }
+        }
+    }
+
+    /// Brings every copy to `target` steps: those past it rewound (the copies
+    /// that cannot be are returned), those short of it stepped on (the first
+    /// that fails on the way is returned, at its step count).
+    fn align(&mut self, target: u64) -> std::result::Result<Vec<usize>, (u64, usize, Error)> {
+        let results: Vec<std::result::Result<bool, Error>> = threads::install(self.threads(), || {
             self.worlds
                 .par_iter_mut()
                 .zip(self.guards.par_iter_mut())
-                .enumerate()
-                .filter_map(|(i, (w, g))| (!g.rewind(w, target)).then_some(i))
+                .with_max_len(1)
+                .map(|(w, g)| match w.steps.cmp(&target) {
+                    std::cmp::Ordering::Greater => Ok(g.rewind(w, target)),
+                    std::cmp::Ordering::Less => w.step_guarded(g, target - w.steps, &mut || false).map(|_| true),
+                    std::cmp::Ordering::Equal => Ok(true),
+                })
                 .collect()
         });
+        let mut stuck = Vec::new();
+        let mut first: Option<(u64, usize, Error)> = None;
+        for (i, r) in results.into_iter().enumerate() {
+            match r {
+                Ok(true) => {}
+                Ok(false) => stuck.push(i),
+                Err(e) => {
+                    let at = self.worlds[i].steps;
+                    if first.as_ref().is_none_or(|(t, _, _)| at < *t) {
+                        first = Some((at, i, e));
+                    }
+                }
+            }
+        }
+        first.map_or(Ok(stuck), Err)
+    }
+
+    /// A copy failed while the others were brought to a stop: align on it.
+    fn failed(&mut self, copy: usize, err: Error, start: u64) -> Result<()> {
+        let (mut target, mut copy, mut err) = (self.worlds[copy].steps, copy, err);
+        loop {
+            match self.align(target) {
+                Ok(stuck) => return Err(self.report(copy, err, target, start, &stuck)),
+                Err((at, i, e)) => (target, copy, err) = (at, i, e),
+            }
+        }
+    }
+
+    fn report(&self, copy: usize, err: Error, target: u64, start: u64, stuck: &[usize]) -> Error {
         let dt = self.settings.dt;
         let tail = if stuck.is_empty() {
             format!("every copy of the batch is back at t = {:.6} s", target as f64 * dt)
@@ -134,7 +201,7 @@ impl Batch {
                 start as f64 * dt
             )
         };
-        Err(Error { message: format!("copy {copy}: {}; {tail}", err.message), ..err })
+        Error { message: format!("copy {copy}: {}; {tail}", err.message), ..err }
     }
 
     /// Sets a per-copy parameter (see [`PARAMETERS`]) from `values`, B rows of

@@ -45,11 +45,11 @@ pub fn pool(n: usize) -> Result<Arc<ThreadPool>> {
     Ok(p)
 }
 
-/// Runs `f` on the pool of `n` threads, or right here when `n` is 1 or this
-/// thread already belongs to a pool (a world stepped inside a batch uses the
-/// batch's threads, not a pool of its own).
+/// Runs `f` on the pool of `n` threads (its parallel iterators use those
+/// threads, one for `n` = 1), or right here when this thread already belongs
+/// to a pool (a world stepped inside a batch uses the batch's threads).
 pub fn install<R: Send>(n: usize, f: impl FnOnce() -> R + Send) -> R {
-    if n <= 1 || rayon::current_thread_index().is_some() {
+    if rayon::current_thread_index().is_some() {
         return f();
     }
     match pool(n) {

@@ -5,6 +5,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
 use numpy::ndarray::{ArrayView, IxDyn};
@@ -22,9 +23,6 @@ use crate::world::{Scene, World};
 
 /// How often a long `step(n)` takes the GIL to run Python's signal handlers.
 const SIGNAL_CHECK: Duration = Duration::from_millis(20);
-/// How often this thread looks whether the copies are done (and for Ctrl-C,
-/// which `SIGNAL_CHECK` spaces out).
-const POLL: Duration = Duration::from_millis(2);
 
 #[pyclass(name = "Batch", module = "rigidrs._core")]
 pub struct PyBatch {
@@ -102,19 +100,33 @@ impl PyBatch {
     }
 
     /// Steps every copy `n` steps on the pool while this thread (the one that
-    /// holds Python's signal handlers) checks for Ctrl-C and sets `stop`.
+    /// holds Python's signal handlers) waits, looking for Ctrl-C every
+    /// `SIGNAL_CHECK`; on one it sets `stop`.
     fn run(&mut self, n: u64, interrupted: &mut dyn FnMut() -> bool) -> crate::Result<()> {
-        let stop = AtomicBool::new(false);
+        let stop = &AtomicBool::new(false);
+        let pool = crate::world::threads::pool(self.core.threads())?;
         let core = &mut self.core;
-        std::thread::scope(|s| {
-            let worker = s.spawn(|| core.step(n, &stop));
-            while !worker.is_finished() {
-                std::thread::sleep(POLL);
-                if !stop.load(Ordering::Relaxed) && interrupted() {
-                    stop.store(true, Ordering::Relaxed);
+        let (done, finished) = std::sync::mpsc::channel();
+        // The copies go to the pool as one task (a pool thread runs `step`, whose
+        // parallel loop spreads them); this thread waits for it, or for Ctrl-C.
+        pool.in_place_scope(|s| {
+            s.spawn(move |_| {
+                let _ = done.send(catch_unwind(AssertUnwindSafe(|| core.step(n, stop))));
+            });
+            loop {
+                match finished.recv_timeout(SIGNAL_CHECK) {
+                    Ok(Ok(r)) => return r,
+                    Ok(Err(p)) => std::panic::resume_unwind(p),
+                    Err(RecvTimeoutError::Timeout) => {
+                        if !stop.load(Ordering::Relaxed) && interrupted() {
+                            stop.store(true, Ordering::Relaxed);
+                        }
+                    }
+                    Err(RecvTimeoutError::Disconnected) => {
+                        return Err(crate::Error::simulation("internal error: the batch's task ended without a result"))
+                    }
                 }
             }
-            worker.join().unwrap_or_else(|p| std::panic::resume_unwind(p))
         })
     }
 }

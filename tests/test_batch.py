@@ -195,6 +195,21 @@ def test_a_diverging_copy_is_named_and_the_batch_goes_back_before_its_step() -> 
     assert np.isfinite(batch.bodies.position).all()
 
 
+def test_copies_far_past_the_failing_step_are_rewound_too() -> None:
+    """On one thread the copies run one after another: copies 0 and 1 finish all
+    2000 steps (past the guard's 1024-step checkpoint interval) before copy 2
+    fails near step 220; they are still brought back to it."""
+    batch = rr.Batch(free_fall(), copies=3, dt=DT, threads=1)
+    batch.bodies.linear_velocity[2, 0, 0] = 1e308
+    with pytest.raises(rr.SimulationError, match="copy 2: .*body 0.*every copy of the batch is back"):
+        batch.step(2000)
+    world = free_fall().build(DT)
+    world.step(batch.steps)
+    assert batch.steps < 300
+    assert_copy_is(batch, 0, world)
+    assert_copy_is(batch, 1, world)
+
+
 SIGINT_SCRIPT = """
 import sys
 import numpy as np

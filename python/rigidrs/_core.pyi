@@ -902,8 +902,7 @@ class Batch:
         through the views that no step can take raises ``StateError`` naming the copy and the
         body; nothing moves. A copy that diverges raises ``SimulationError`` naming the copy,
         the body, the stage and the time; every copy is put back as it was before that copy's
-        failing step (the message lists any copy that could not be: one that had gone more
-        than ~1024 steps past it, the guard's checkpoint interval). Ctrl-C stops every copy at
+        failing step (the message would list a copy that could not be). Ctrl-C stops every copy at
         the same step boundary (``KeyboardInterrupt``)."""
     def set(self, name: str, values: ArrayLike) -> None:
         """Per-copy parameter ``name``, ``values`` of shape (B,) (every body of a copy) or

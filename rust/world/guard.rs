@@ -175,6 +175,9 @@ pub struct Guard {
     stale: bool,
     /// The view-writable arrays the user may have written (`exposed` bits).
     exposed: AtomicU16,
+    /// Checkpoints only at the start of a call, never between two of its
+    /// steps (a batch: any copy can then be rewound to any step of the call).
+    calls_only: bool,
 }
 
 impl Guard {
@@ -188,6 +191,13 @@ impl Guard {
     /// changed through a method): from now on they are compared and logged.
     pub fn expose(&self, bits: u16) {
         self.exposed.fetch_or(bits, Ordering::Relaxed);
+    }
+
+    /// A guard that takes checkpoints only at the start of a call: a failure
+    /// late in a long call replays more, but [`Guard::rewind`] reaches every
+    /// step of the current call.
+    pub fn at_calls_only() -> Self {
+        Self { calls_only: true, ..Self::default() }
     }
 
     fn due(&self) -> bool {
@@ -230,7 +240,7 @@ impl Guard {
             c.steps += 1;
         }
         self.steps += 1;
-        if self.steps >= CHECKPOINT_STEPS {
+        if self.steps >= CHECKPOINT_STEPS && !self.calls_only {
             self.checkpoint(w, false);
         }
     }

@@ -9,6 +9,8 @@ in (x, y, z, w) order. :func:`accuracy` runs the work-precision report.
 from ._core import (
     ARTICULATION_INTEGRATORS,
     INTEGRATORS,
+    Batch,
+    BatchBodies,
     Bodies,
     Box,
     Capsule,
@@ -40,12 +42,15 @@ from ._core import (
 from . import io
 from .io import load_scene
 from .io.methods import install as _install_file_methods
+from .scale import SweepError, SweepFailure, sweep
 from .view import Camera, Capture, Extras, Viewer, export_gltf, export_usd, render, view
 from .work_precision import accuracy
 
 __all__ = [
     "ARTICULATION_INTEGRATORS",
     "INTEGRATORS",
+    "Batch",
+    "BatchBodies",
     "Bodies",
     "Camera",
     "Capture",
@@ -70,6 +75,8 @@ __all__ = [
     "Snapshot",
     "Sphere",
     "StateError",
+    "SweepError",
+    "SweepFailure",
     "TriMesh",
     "Viewer",
     "World",
@@ -83,6 +90,7 @@ __all__ = [
     "mass_properties",
     "polar_decomposition",
     "render",
+    "sweep",
     "view",
 ]
 

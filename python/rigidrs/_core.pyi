@@ -12,6 +12,8 @@ _F64: TypeAlias = npt.NDArray[np.float64]
 
 __all__ = [
     "ARTICULATION_INTEGRATORS",
+    "Batch",
+    "BatchBodies",
     "Bodies",
     "Box",
     "Capsule",
@@ -430,6 +432,7 @@ class Scene:
         articulation_integrator: str = "leapfrog",
         articulation_substeps: int | None = None,
         max_rotation_angle: float | None = None,
+        threads: int | None = None,
     ) -> World:
         """Compiles the scene.
 
@@ -466,7 +469,9 @@ class Scene:
         angle a body may turn by per rotation substep of the split integrators, taken at the
         largest ``|ω|`` of its free orbit; an asymmetric body that would turn more per step
         takes that many more rotation substeps, alone (stage ``rotate_fast``); ``math.inf``
-        never subdivides (the bare method)."""
+        never subdivides (the bare method). Threads: ``threads`` (≥ 1, default None: every
+        core) worker threads for the world's own parallel work; every count gives the same
+        bits."""
     @property
     def particle_count(self) -> int:
         """Number of particles added so far."""
@@ -819,6 +824,12 @@ class World:
     @property
     def bodies(self) -> Bodies: ...
     @property
+    def threads(self) -> int:
+        """Worker threads the world's parallel stages use (the build argument ``threads``,
+        every core by default); settable (≥ 1). Every count gives the same bits."""
+    @threads.setter
+    def threads(self, n: int) -> None: ...
+    @property
     def joints(self) -> Joints:
         """The joints, as NumPy views."""
     def set_joint_positions(self, positions: ArrayLike, velocities: ArrayLike | None = None) -> None:
@@ -934,3 +945,70 @@ def load(path: str | PathLike[str]) -> World:
     ``FileNotFoundError``; a file that is not a snapshot of this rigidrs version, or is
     truncated or corrupted, ``RigidError`` (a ``ValueError``) naming the path and what
     is wrong."""
+
+@final
+class BatchBodies:
+    """(B, N, ·) NumPy views of a batch's bodies; each view keeps the batch alive. Writes
+    take effect at the next ``Batch.step``."""
+
+    def __len__(self) -> int: ...
+    @property
+    def position(self) -> _F64:
+        """(B, N, 3) centre of mass of each body of each copy, world (m); writable."""
+    @property
+    def orientation(self) -> _F64:
+        """(B, N, 4) orientation quaternion (x, y, z, w); writable."""
+    @property
+    def linear_velocity(self) -> _F64:
+        """(B, N, 3) centre-of-mass velocity, world (m/s); writable."""
+    @property
+    def angular_velocity(self) -> _F64:
+        """(B, N, 3) angular velocity, world (rad/s); writable."""
+
+@final
+class Batch:
+    """B worlds of one layout stepped in parallel; copy ``i`` is bitwise the world
+    ``scene.build(dt, ...)`` stepped alone (with its parameters and written states).
+
+    ``Batch(scene, copies=B, dt=..., **build)``: B copies of one scene; or
+    ``Batch([scene, ...], dt=..., **build)``: one copy per scene, which must have equal
+    numbers of bodies, joints and particles (``RigidError`` names the first difference).
+    ``build``: the keyword arguments of ``Scene.build`` (``threads``: the worker threads
+    stepping the copies, default every core)."""
+
+    def __new__(cls, scene: Scene | list[Scene], copies: int | None = None, *, dt: float, **build: Any) -> Batch: ...
+    def step(self, n: int = 1) -> None:
+        """Advances every copy ``n`` steps, in parallel with the GIL released. A state written
+        through the views that no step can take raises ``StateError`` naming the copy and the
+        body; nothing moves. A copy that diverges raises ``SimulationError`` naming the copy,
+        the body, the stage and the time; every copy is put back as it was before that copy's
+        failing step (the message would list a copy that could not be). Ctrl-C stops every copy at
+        the same step boundary (``KeyboardInterrupt``)."""
+    def set(self, name: str, values: ArrayLike) -> None:
+        """Per-copy parameter ``name``, ``values`` of shape (B,) (every body of a copy) or
+        (B, N) (per body): "friction" (dynamic and static, –), "static_friction",
+        "restitution", "mass" (kg, dynamic bodies; inertia scaled with it), "mass_scale"
+        (factor on mass and inertia); "gravity" (B, 3) (m/s²). Each copy is built again from
+        its scene with the value, keeping the views' states and the time (contact warm starts
+        and sleep timers start afresh: set parameters before stepping for copies bitwise equal
+        to worlds built with them). Unknown name or wrong shape: error; nothing changes."""
+    def world(self, i: int) -> World:
+        """Copy ``i`` as a world of its own (stepping it leaves the batch alone)."""
+    @property
+    def bodies(self) -> BatchBodies: ...
+    @property
+    def copies(self) -> int:
+        """Number of copies B."""
+    def __len__(self) -> int: ...
+    @property
+    def threads(self) -> int:
+        """Worker threads stepping the copies."""
+    @property
+    def time(self) -> float:
+        """Simulated time of every copy (s)."""
+    @property
+    def steps(self) -> int:
+        """Steps every copy has taken."""
+    @property
+    def dt(self) -> float:
+        """Time step (s)."""

@@ -12,6 +12,7 @@ pub mod euler;
 pub mod free_rotation;
 pub mod implicit_gyro;
 pub mod kick;
+pub mod parallel;
 pub mod rk4;
 pub mod strang;
 pub mod symplectic_euler;

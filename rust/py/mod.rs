@@ -1,6 +1,7 @@
 //! Python bindings (feature `python`): a thin layer that converts, validates at the
 //! boundary, and maps [`crate::Error`] to Python exceptions.
 
+mod batch;
 mod convert;
 mod drive;
 mod joint_views;
@@ -15,6 +16,7 @@ mod particles;
 mod scene;
 mod shapes;
 mod snapshot;
+mod threads;
 mod views;
 mod world;
 
@@ -40,6 +42,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<snapshot::PySnapshot>()?;
     m.add_function(wrap_pyfunction!(snapshot::load, m)?)?;
     m.add_class::<recording::PyRecording>()?;
+    m.add_class::<batch::PyBatch>()?;
+    m.add_class::<batch::PyBatchBodies>()?;
     let integrators = PyDict::new(py);
     for i in Integrator::ALL {
         integrators.set_item(i.name(), i.order())?;

@@ -217,7 +217,7 @@ impl PyScene {
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
                         sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5,
                         articulations=true, articulation_integrator="leapfrog", articulation_substeps=None,
-                        max_rotation_angle=None))]
+                        max_rotation_angle=None, threads=None))]
     #[allow(clippy::too_many_arguments)]
     fn build(
         &self,
@@ -239,6 +239,7 @@ impl PyScene {
         articulation_integrator: &str,
         articulation_substeps: Option<i64>,
         max_rotation_angle: Option<f64>,
+        threads: Option<i64>,
     ) -> PyResult<PyWorld> {
         let mut s = Settings::new(dt);
         s.integrator = Integrator::from_name(integrator).py_err()?;
@@ -257,6 +258,7 @@ impl PyScene {
             substeps: articulation_substeps.map(|n| small(n, "articulation_substeps")).transpose()?,
         };
         s.max_rotation_angle = max_rotation_angle;
+        s.threads = threads.map(|n| small(n, "threads")).transpose()?;
         let world = self.inner.build(&s).py_err()?;
         if let (Some(hertz), true) = (asked, world.collision.is_some()) {
             warn_stiffness_capped(py, hertz, dt, world.substeps())?;

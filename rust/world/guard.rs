@@ -175,6 +175,9 @@ pub struct Guard {
     stale: bool,
     /// The view-writable arrays the user may have written (`exposed` bits).
     exposed: AtomicU16,
+    /// Checkpoints only at the start of a call, never between two of its
+    /// steps (a batch: any copy can then be rewound to any step of the call).
+    calls_only: bool,
 }
 
 impl Guard {
@@ -188,6 +191,13 @@ impl Guard {
     /// changed through a method): from now on they are compared and logged.
     pub fn expose(&self, bits: u16) {
         self.exposed.fetch_or(bits, Ordering::Relaxed);
+    }
+
+    /// A guard that takes checkpoints only at the start of a call: a failure
+    /// late in a long call replays more, but [`Guard::rewind`] reaches every
+    /// step of the current call.
+    pub fn at_calls_only() -> Self {
+        Self { calls_only: true, ..Self::default() }
     }
 
     fn due(&self) -> bool {
@@ -230,7 +240,7 @@ impl Guard {
             c.steps += 1;
         }
         self.steps += 1;
-        if self.steps >= CHECKPOINT_STEPS {
+        if self.steps >= CHECKPOINT_STEPS && !self.calls_only {
             self.checkpoint(w, false);
         }
     }
@@ -269,6 +279,50 @@ impl Guard {
             let _ = w.restore(cp);
             return false;
         }
+        true
+    }
+}
+
+impl Guard {
+    /// Puts `w` back to the state it had after `target` steps (its step count),
+    /// by the checkpoint and a replay of the log, as `roll_back` does but
+    /// stopping there: what a batch does to the copies that went on past the
+    /// step at which another copy failed. False (and `w` untouched) when the
+    /// checkpoint is later than `target` or `w` is not past it.
+    pub fn rewind(&mut self, w: &mut World, target: u64) -> bool {
+        let Some(cp) = self.checkpoint.as_deref() else { return false };
+        if cp.steps > target || w.steps < target {
+            return false;
+        }
+        if w.steps == target {
+            return true;
+        }
+        let mut probe = cp.clone();
+        let replayed = catch_unwind(AssertUnwindSafe(|| {
+            for c in &mut self.calls {
+                // A call starting at `target` still counts for what the user
+                // wrote before it (its steps are the ones undone).
+                if probe.steps > target || (probe.steps == target && c.inputs.is_none()) {
+                    break;
+                }
+                if let Some(i) = &mut c.inputs {
+                    i.write(&mut probe);
+                }
+                if c.prepare {
+                    probe.prepare();
+                }
+                let src = probe.kick_sources();
+                let k = c.steps.min(target - probe.steps);
+                for _ in 0..k {
+                    probe.one_step(&src);
+                }
+                probe.finish();
+            }
+        }));
+        if replayed.is_err() || probe.steps != target || w.restore(&probe).is_err() {
+            return false;
+        }
+        self.stale = true;
         true
     }
 }

@@ -19,6 +19,8 @@ pub mod settings;
 pub mod snapshot;
 pub mod snapshot_bytes;
 pub mod step;
+pub mod threads;
+pub mod batch;
 pub mod validate;
 #[allow(clippy::module_inception)]
 pub mod world;

@@ -129,6 +129,12 @@ impl Scene {
         &self.bodies
     }
 
+    /// The compiled bodies, to change per copy of a batch (`world::batch`),
+    /// which validates what it writes.
+    pub(crate) fn bodies_mut(&mut self) -> &mut [BodyDesc] {
+        &mut self.bodies
+    }
+
     /// Validates `spec` and adds the body; returns its index. On error the scene
     /// is unchanged.
     pub fn add_body(&mut self, spec: BodySpec) -> Result<usize> {

@@ -33,6 +33,10 @@ pub struct Settings {
     pub sleep: SleepSettings,
     /// Articulations: on/off, integrator, substeps (see [`crate::articulation`]).
     pub articulation: crate::articulation::ArticulationSettings,
+    /// Worker threads the world's own parallel work may use (≥ 1). Default
+    /// (`None`): every core (`available_parallelism`). The result is bitwise the
+    /// same for every count (see [`super::threads`]).
+    pub threads: Option<u32>,
 }
 
 impl Settings {
@@ -46,6 +50,7 @@ impl Settings {
             solver: SolverSettings::default(),
             sleep: SleepSettings::default(),
             articulation: Default::default(),
+            threads: None,
         }
     }
 
@@ -61,6 +66,9 @@ impl Settings {
         }
         if self.articulation.substeps == Some(0) {
             return Err(Error::input("articulation_substeps must be at least 1, got 0"));
+        }
+        if self.threads == Some(0) {
+            return Err(Error::input("threads must be at least 1, got 0"));
         }
         if self.iterations == 0 {
             return Err(Error::input("iterations must be at least 1, got 0"));

@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::integrate::kick::KickSources;
 use crate::integrate::free_rotation::Substeps;
 use crate::integrate::{
-    drift, euler, free_rotation, implicit_gyro, kick, rk4, symplectic_euler, Aniso, BodyLists, Gyroscopic,
+    drift, euler, free_rotation, implicit_gyro, kick, parallel, rk4, symplectic_euler, Aniso, BodyLists, Gyroscopic,
     InertiaClass, Rotation,
 };
 
@@ -129,6 +129,7 @@ impl World {
         let dt = self.settings.dt;
         let step = if stage.whole { dt } else { h };
         let hf = step * stage.frac;
+        let threads = super::threads::resolve(self.settings.threads);
         let group = |g: Group| match g {
             Group::All => &self.lists,
             Group::Free => &self.split[0],
@@ -145,17 +146,17 @@ impl World {
                     let sub = Substeps::new(self.settings.rotation_angle(), step, &self.fast_weights);
                     self.fast.clear();
                     let (list, spread) = (&l.asymmetric, &l.asymmetric_inv_spread);
-                    free_rotation::rotate_asymmetric(&mut self.bodies, list, spread, hf, sub, &mut self.fast);
+                    parallel::rotate_asymmetric(threads, &mut self.bodies, list, spread, hf, sub, &mut self.fast);
                     if !self.fast.is_empty() && self.fast_weights.len() > 1 {
                         slow_list(&l.asymmetric, &self.fast, &mut self.slow, &mut self.fast_mark);
                     }
                 } else if self.fast.is_empty() {
-                    free_rotation::rotate_asymmetric_unchecked(&mut self.bodies, &l.asymmetric, hf);
+                    parallel::rotate_asymmetric_unchecked(threads, &mut self.bodies, &l.asymmetric, hf);
                 } else {
-                    free_rotation::rotate_asymmetric_unchecked(&mut self.bodies, &self.slow, hf);
+                    parallel::rotate_asymmetric_unchecked(threads, &mut self.bodies, &self.slow, hf);
                 }
             }
-            StageKind::Rotate(class, g, _) => rotate(&mut self.bodies, group(g), class, self.rotation, hf),
+            StageKind::Rotate(class, g, _) => rotate(&mut self.bodies, group(g), class, self.rotation, hf, threads),
             StageKind::RotateFast(_) => {
                 // The whole step (the stage's fraction is 1) in rotation substeps.
                 let sub = Substeps::new(self.settings.rotation_angle(), step, &self.fast_weights);
@@ -304,12 +305,13 @@ fn slow_list(list: &[Aniso], fast: &[Aniso], slow: &mut Vec<Aniso>, mark: &mut V
 
 /// Rotation of one class of bodies by the integrator's method (the exact
 /// rotation of asymmetric bodies, with its rotation substeps, is in `run`).
-pub(crate) fn rotate(b: &mut Bodies, l: &BodyLists, class: InertiaClass, method: Rotation, h: f64) {
+/// The free rotations run over `threads` for large groups (`integrate::parallel`).
+pub(crate) fn rotate(b: &mut Bodies, l: &BodyLists, class: InertiaClass, method: Rotation, h: f64, threads: usize) {
     use InertiaClass::*;
     match (method, class) {
-        (Rotation::Free, Isotropic) => free_rotation::rotate_isotropic(b, &l.isotropic, h),
-        (Rotation::Free, Symmetric) => free_rotation::rotate_symmetric(b, &l.symmetric, h),
-        (Rotation::Free, Asymmetric) => free_rotation::rotate_asymmetric_unchecked(b, &l.asymmetric, h),
+        (Rotation::Free, Isotropic) => parallel::rotate_isotropic(threads, b, &l.isotropic, h),
+        (Rotation::Free, Symmetric) => parallel::rotate_symmetric(threads, b, &l.symmetric, h),
+        (Rotation::Free, Asymmetric) => parallel::rotate_asymmetric_unchecked(threads, b, &l.asymmetric, h),
         (Rotation::Euler, Isotropic) => euler::rotate_isotropic(b, &l.isotropic, h),
         (Rotation::Euler, c) => euler::rotate(b, l.indices(c), h),
         (Rotation::Exp, c) => symplectic_euler::rotate_exp(b, l.indices(c), h),

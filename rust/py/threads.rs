@@ -1,0 +1,26 @@
+//! `World.threads`: the worker threads a world's own parallel work may use.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use super::world::PyWorld;
+
+#[pymethods]
+impl PyWorld {
+    /// Worker threads the world's parallel stages use (≥ 1; the build argument
+    /// `threads`, all cores by default). Settable; every count gives the same bits.
+    #[getter]
+    fn threads(&self) -> usize {
+        crate::world::threads::resolve(self.inner.settings().threads)
+    }
+
+    #[setter]
+    fn set_threads(&mut self, n: i64) -> PyResult<()> {
+        let n = u32::try_from(n)
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| PyValueError::new_err(format!("threads must be an integer in [1, 2^32), got {n}")))?;
+        self.inner.set_threads(n);
+        Ok(())
+    }
+}

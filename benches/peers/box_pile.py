@@ -2,7 +2,7 @@
 """Box pile: N cubes dropped in a loose lattice onto a ground plane, in rigidrs or Rapier.
 
 A scene of the issue "Scale": n×n×layers cubes of edge 0.5 m, density 1000 kg/m³, 5 cm
-apart, each turned by a small random angle (seeded, the same in both engines) so that
+apart at their widest, each turned by a small random angle (seeded, the same in both engines) so that
 they land on edges and corners and pile up; friction 0.5, restitution 0, dt 1/60,
 sleeping off (the same work in both engines). Only the stepping is timed. One JSON line
 as the peer scripts print (fields: scene, engine, n, steps, steps_per_s, ...).
@@ -22,7 +22,9 @@ GAP = 0.05
 
 def initial_poses(a):
     rng = np.random.default_rng(a.seed)
-    pitch = 2 * HALF + GAP
+    # A turned cube reaches at most √3 half edges along any axis: no two start
+    # overlapping, whatever their tilt.
+    pitch = 2 * HALF * np.sqrt(3) + GAP
     pos, quat = [], []
     for k in range(a.layers):
         for i in range(a.side):

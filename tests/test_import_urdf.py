@@ -12,6 +12,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipk
 
 import rigidrs as rr
+from test_articulation import hermite_crossings
 
 pytest.importorskip("yourdfpy", reason="yourdfpy is in the test extra: pip install '.[test]'")
 
@@ -54,17 +55,7 @@ def write(tmp_path: Path, text: str, name: str = "robot.urdf") -> Path:
 
 def crossings(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Times where x falls through 0 (cubic Hermite between steps, error O(h⁴))."""
-    out = []
-    for k in range(1, len(x)):
-        if x[k - 1] > 0 >= x[k]:
-            h = t[k] - t[k - 1]
-
-            def p(s: float, k: int = k, h: float = h) -> float:
-                return ((2 * s**3 - 3 * s**2 + 1) * x[k - 1] + (s**3 - 2 * s**2 + s) * h * v[k - 1]
-                        + (-2 * s**3 + 3 * s**2) * x[k] + (s**3 - s**2) * h * v[k])
-
-            out.append(t[k - 1] + h * brentq(p, 0.0, 1.0, xtol=1e-15))
-    return np.array(out)
+    return np.array(hermite_crossings(list(t), list(x), list(v)))
 
 
 def test_pendulum_has_the_analytic_period(tmp_path: Path) -> None:

@@ -87,7 +87,7 @@ impl Rule {
         let bias = if s > 0.0 {
             s * self.inv_h
         } else if !self.relax {
-            self.soft.mass_scale * (self.soft.bias_rate * s).max(-self.max_push)
+            -self.soft.mass_scale * self.push_out_speed(s)
         } else {
             0.0
         };

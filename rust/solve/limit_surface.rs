@@ -175,29 +175,57 @@ impl PatchShape {
 /// = (d²/2) [asinh t, √(1 + t²)]` in (`n̂`, `ê`), and `∫ |r| dA` as in
 /// [`triangle_from_origin`].
 fn fan_triangle(a: [f64; 2], b: [f64; 2]) -> (f64, [f64; 2], f64) {
-    let cross = a[0] * b[1] - a[1] * b[0];
-    let area = 0.5 * cross;
-    let ed = [b[0] - a[0], b[1] - a[1]];
-    let len = norm2(ed[0], ed[1]);
-    if len == 0.0 || cross == 0.0 {
-        return (area, [0.0; 2], 0.0);
+    let area = 0.5 * (a[0] * b[1] - a[1] * b[0]);
+    let Some(t) = Edge::of(a, b) else { return (area, [0.0; 2], 0.0) };
+    let (sa, sb) = (asinh(t.ta, t.ra), asinh(t.tb, t.rb));
+    let d2 = 0.5 * t.d * t.d;
+    let (n_part, e_part) = (d2 * (sb - sa), d2 * (t.rb - t.ra));
+    let e = [t.sign * (n_part * t.nt[0] + e_part * t.et[0]), t.sign * (n_part * t.nt[1] + e_part * t.et[1])];
+    (area, e, t.distance(sa, sb))
+}
+
+/// The edge ab of the triangle (0, a, b) seen from the origin: the foot `d n̂`
+/// of the perpendicular on it, its direction `ê`, and the positions `t` of a
+/// and b along it from the foot over `d`, with `√(1 + t²)`. None when the
+/// edge passes (nearly) through the origin: no area to speak of.
+struct Edge {
+    d: f64,
+    nt: [f64; 2],
+    et: [f64; 2],
+    ta: f64,
+    tb: f64,
+    ra: f64,
+    rb: f64,
+    /// The triangle's orientation (±1).
+    sign: f64,
+}
+
+impl Edge {
+    fn of(a: [f64; 2], b: [f64; 2]) -> Option<Edge> {
+        let cross = a[0] * b[1] - a[1] * b[0];
+        let ed = [b[0] - a[0], b[1] - a[1]];
+        let len = norm2(ed[0], ed[1]);
+        if len == 0.0 || cross == 0.0 {
+            return None;
+        }
+        let d = cross.abs() / len;
+        if d <= 1e-6 * len {
+            return None;
+        }
+        let et = [ed[0] / len, ed[1] / len];
+        let foot = [ed[1] * cross / (len * len), -ed[0] * cross / (len * len)];
+        let along = |p: [f64; 2]| ((p[0] - foot[0]) * et[0] + (p[1] - foot[1]) * et[1]) / d;
+        let (ta, tb) = (along(a), along(b));
+        let (ra, rb) = ((1.0 + ta * ta).sqrt(), (1.0 + tb * tb).sqrt());
+        Some(Edge { d, nt: [foot[0] / d, foot[1] / d], et, ta, tb, ra, rb, sign: cross.signum() })
     }
-    let d = cross.abs() / len;
-    if d <= 1e-6 * len {
-        return (area, [0.0; 2], 0.0);
+
+    /// Signed `∫ |r| dA` of the triangle, given `asinh` of `ta` and `tb`:
+    /// `(d³/3) [½ (t √(1 + t²) + asinh t)]` (see [`triangle_from_origin`]).
+    fn distance(&self, sa: f64, sb: f64) -> f64 {
+        let sec3 = |t: f64, root: f64, s: f64| 0.5 * (t * root + s);
+        self.sign * self.d * self.d * self.d / 3.0 * (sec3(self.tb, self.rb, sb) - sec3(self.ta, self.ra, sa))
     }
-    let et = [ed[0] / len, ed[1] / len];
-    let foot = [ed[1] * cross / (len * len), -ed[0] * cross / (len * len)];
-    let nt = [foot[0] / d, foot[1] / d];
-    let along = |p: [f64; 2]| ((p[0] - foot[0]) * et[0] + (p[1] - foot[1]) * et[1]) / d;
-    let (ta, tb) = (along(a), along(b));
-    let (ra, rb) = ((1.0 + ta * ta).sqrt(), (1.0 + tb * tb).sqrt());
-    let sec3 = |t: f64, root: f64| 0.5 * (t * root + asinh(t, root));
-    let sign = cross.signum();
-    let (n_part, e_part) = (0.5 * d * d * (asinh(tb, rb) - asinh(ta, ra)), 0.5 * d * d * (rb - ra));
-    let e = [sign * (n_part * nt[0] + e_part * et[0]), sign * (n_part * nt[1] + e_part * et[1])];
-    let dist = sign * d * d * d / 3.0 * (sec3(tb, rb) - sec3(ta, ra));
-    (area, e, dist)
 }
 
 /// Length, `∫ r/|r| ds` and `∫ |r| ds` of the segment ab (a patch with no area:
@@ -255,28 +283,9 @@ pub fn onto(f: [f64; 2], tau: f64, mu_n: f64, lever: f64) -> ([f64; 2], f64) {
 /// `½ (t √(1 + t²) + asinh t)`: no angle is needed (atan, sin_cos and ln took
 /// 10 % of a pyramid's step, once per patch and step).
 fn triangle_from_origin(a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
-    let cross = a[0] * b[1] - a[1] * b[0];
-    let area = 0.5 * cross;
-    let e = [b[0] - a[0], b[1] - a[1]];
-    let len = norm2(e[0], e[1]);
-    if len == 0.0 || cross == 0.0 {
-        return (area, 0.0);
-    }
-    let d = cross.abs() / len;
-    if d <= 1e-6 * len {
-        // The edge passes (nearly) through the origin: no area to speak of.
-        return (area, 0.0);
-    }
-    // Signed positions of a and b along the edge from the foot of the
-    // perpendicular, over d.
-    let foot = [e[1] * cross / (len * len), -e[0] * cross / (len * len)];
-    let along = |p: [f64; 2]| ((p[0] - foot[0]) * e[0] + (p[1] - foot[1]) * e[1]) / (len * d);
-    let sec3 = |t: f64| {
-        let root = (1.0 + t * t).sqrt();
-        0.5 * (t * root + asinh(t, root))
-    };
-    let integral = d * d * d / 3.0 * (sec3(along(b)) - sec3(along(a)));
-    (area, integral.abs() * area.signum())
+    let area = 0.5 * (a[0] * b[1] - a[1] * b[0]);
+    let Some(t) = Edge::of(a, b) else { return (area, 0.0) };
+    (area, t.distance(asinh(t.ta, t.ra), asinh(t.tb, t.rb)))
 }
 
 /// `asinh t` given `root = √(1 + t²)`, accurate near 0 (`ln_1p`) without the
@@ -289,17 +298,10 @@ fn asinh(t: f64, root: f64) -> f64 {
 
 /// Mean distance from the origin of the points of the segment ab.
 fn segment_mean_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    let e = [b[0] - a[0], b[1] - a[1]];
-    let len = norm2(e[0], e[1]);
-    if len == 0.0 {
-        return norm2(a[0], a[1]);
+    match segment_from(a, b) {
+        (len, _, dist) if len > 0.0 => dist / len,
+        _ => norm2(a[0], a[1]),
     }
-    // ∫ sqrt(x² + d²) dx from xa to xb, over the length.
-    let dir = [e[0] / len, e[1] / len];
-    let xa = a[0] * dir[0] + a[1] * dir[1];
-    let d = (a[0] * dir[1] - a[1] * dir[0]).abs();
-    let prim = |x: f64| 0.5 * (x * norm2(x, d) + if d > 0.0 { d * d * (x / d).asinh() } else { 0.0 });
-    (prim(xa + len) - prim(xa)) / len
 }
 
 /// Convex hull of a few points (at most 2·[`MAX_VERTICES`] are looked at),

@@ -76,7 +76,7 @@ impl ContactSolver {
     /// applies: support blocks and no contact on an articulated link).
     pub(crate) fn remember_before_warm(&mut self) {
         self.guard.velocities.clear();
-        if self.support.blocks.is_empty() || self.constraints.iter().any(|c| c.generalized) {
+        if self.support.blocks.is_empty() || !self.gen.constraints.is_empty() {
             return;
         }
         let group = groups(self);

@@ -140,6 +140,26 @@ def _poses(world: Any, n: int, rec: Any) -> tuple[F64, F64, F64, F64]:
     return times, pos, quat, parts
 
 
+def _export_args(rec: Any, path: Any, formats: Sequence[str], detail: int,
+                 ground_size: float | None, name: str) -> tuple[Any, Path]:
+    """The recording and path of an exporter called as ``f(source, rec, path)`` or
+    ``f(source, path)``, checked before anything is built: a known suffix, a writable
+    folder, ``detail`` in 0..3 and a positive ``ground_size``."""
+    if isinstance(rec, (str, os.PathLike)) and path is None:
+        rec, path = None, rec
+    if path is None:
+        raise TypeError(f"{name} needs a path ending in {', '.join(formats[:-1])} or {formats[-1]}")
+    path = Path(path)
+    if path.suffix.lower() not in formats:
+        raise ValueError(f"cannot write {path}: unknown format {path.suffix!r}; use one of {', '.join(formats)}")
+    _writable_folder(path)
+    if detail not in (0, 1, 2, 3):
+        raise ValueError(f"detail must be 0, 1, 2 or 3, got {detail!r}")
+    if ground_size is not None and not (np.isfinite(ground_size) and ground_size > 0):
+        raise ValueError(f"ground_size must be a positive length (m), got {ground_size!r}")
+    return rec, path
+
+
 def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | None = None, *,
                 colors: Any = None, detail: int = 2, ground_size: float | None = None,
                 particles: bool = True) -> Path:
@@ -158,19 +178,8 @@ def export_gltf(source: Any, rec: Any = None, path: str | os.PathLike[str] | Non
     Units metres; z-up converted to glTF's y-up by the root node's rotation (module doc).
     Returns the path written.
     """
-    if isinstance(rec, (str, os.PathLike)) and path is None:
-        rec, path = None, rec
-    if path is None:
-        raise TypeError("export_gltf needs a path ending in .glb or .gltf")
-    path = Path(path)
+    rec, path = _export_args(rec, path, FORMATS, detail, ground_size, "export_gltf")
     suffix = path.suffix.lower()
-    if suffix not in FORMATS:
-        raise ValueError(f"cannot write {path}: unknown format {path.suffix!r}; use one of {', '.join(FORMATS)}")
-    _writable_folder(path)
-    if detail not in (0, 1, 2, 3):
-        raise ValueError(f"detail must be 0, 1, 2 or 3, got {detail!r}")
-    if ground_size is not None and not (np.isfinite(ground_size) and ground_size > 0):
-        raise ValueError(f"ground_size must be a positive length (m), got {ground_size!r}")
 
     world, shapes = _source(source)
     n = len(shapes)

@@ -28,9 +28,9 @@ from typing import Any
 
 import numpy as np
 
-from .gltf import _ground, _linear, _poses
+from .gltf import _export_args, _ground, _linear, _poses
 from .mesh import quat_matrix, shape_mesh
-from .render import _atomic, _bounds, _source, _writable_folder, body_colors
+from .render import _atomic, _bounds, _source, body_colors
 
 FORMATS = (".usd", ".usda", ".usdc")
 
@@ -74,18 +74,7 @@ def export_usd(source: Any, rec: Any = None, path: str | os.PathLike[str] | None
     ``ground_size`` (m) and ``particles`` as in :func:`rigidrs.export_gltf`. Poses are
     stored in double precision (module doc for the layout). Returns the path written.
     """
-    if isinstance(rec, (str, os.PathLike)) and path is None:
-        rec, path = None, rec
-    if path is None:
-        raise TypeError("export_usd needs a path ending in .usd, .usda or .usdc")
-    path = Path(path)
-    if path.suffix.lower() not in FORMATS:
-        raise ValueError(f"cannot write {path}: unknown format {path.suffix!r}; use one of {', '.join(FORMATS)}")
-    _writable_folder(path)
-    if detail not in (0, 1, 2, 3):
-        raise ValueError(f"detail must be 0, 1, 2 or 3, got {detail!r}")
-    if ground_size is not None and not (np.isfinite(ground_size) and ground_size > 0):
-        raise ValueError(f"ground_size must be a positive length (m), got {ground_size!r}")
+    rec, path = _export_args(rec, path, FORMATS, detail, ground_size, "export_usd")
     Gf, Sdf, Tf, Usd, UsdGeom, Vt = _pxr()
     world, shapes = _source(source)
     times, pos, quat, parts = _poses(world, len(shapes), rec)

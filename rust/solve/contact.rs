@@ -138,6 +138,10 @@ pub struct Constraint {
     /// It touches an articulated link: solved through the articulation (see
     /// `super::generalized`), never a support contact.
     pub generalized: bool,
+    /// Its bodies met slower than `SETTLED` substeps of gravity at its points
+    /// at the step start, or one of them is fixed or kinematic: only then may
+    /// the support sweeps hold its lower body (see `super::support`).
+    pub settled: bool,
 }
 
 /// The contact solver's state for one step.
@@ -235,7 +239,7 @@ impl ContactSolver {
         }
         let g = gravity.norm();
         let up = if g > 0.0 { -gravity / g } else { Vec3::zeros() };
-        self.plan_support(&up, g);
+        self.plan_support(&up, g, b);
         self.plan_links();
     }
 
@@ -328,6 +332,7 @@ impl ContactSolver {
             lower: 0,
             group: 0,
             generalized: (ctx.s1 != 0 && self.is_link(ctx.b1)) || (ctx.s2 != 0 && self.is_link(ctx.b2)),
+            settled: true,
         };
         let mut patch = Patch::new(&constraint, &self.points[start as usize..], &self.bodies);
         if warm {

@@ -79,6 +79,21 @@ impl Rule {
         }
     }
 
+    /// The largest normal velocity (m/s) at which a point at (effective)
+    /// separation `s` may leave while it pushes: the speed that closes a gap
+    /// within the substep (negative), its push-out speed in the first pass, at
+    /// rest in the relax pass.
+    #[inline(always)]
+    pub(crate) fn allowed(&self, s: f64) -> f64 {
+        if s > 0.0 {
+            -self.bias(s)
+        } else if self.relax {
+            0.0
+        } else {
+            self.push_out_speed(s)
+        }
+    }
+
     /// Impulse increment of a point solved both ways: rigid, a penetration pushed
     /// out at the soft contact's rate (at most `max_push_velocity`) in the first
     /// pass and the push-out taken back by the relax pass.
@@ -119,6 +134,11 @@ impl ContactSolver {
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         for &ci in &self.ordinary {
             solve(&cs[ci as usize], points, bodies, rule);
+        }
+        // See `super::release`. (The relax pass's excess is released after
+        // the next warm start.)
+        if !rule.relax {
+            self.release_excess(rule);
         }
     }
 

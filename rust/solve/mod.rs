@@ -15,5 +15,6 @@ pub mod support;
 pub mod soft;
 pub mod solver_body;
 pub mod warm_guard;
+pub mod release;
 
 pub use contact::{ContactSolver, SolverSettings};

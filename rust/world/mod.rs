@@ -13,6 +13,7 @@ pub mod particles;
 pub mod pipeline;
 pub mod profile;
 pub mod recipe;
+pub mod runaway;
 pub mod scene;
 pub mod scene_bytes;
 pub mod settings;

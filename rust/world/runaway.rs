@@ -230,6 +230,7 @@ impl World {
     /// taken (J; see the module): applied forces, push-out, kinematic bodies,
     /// drives. `mass`, `particle_mass`: of the dynamic bodies and free
     /// particles, and of the particles alone (kg).
+    #[inline(never)]
     fn step_work(&self, src: &KickSources, mass: f64, particle_mass: f64) -> f64 {
         let (b, dt) = (&self.bodies, self.settings.dt);
         let push = self.settings.solver.max_push_velocity;

@@ -7,8 +7,10 @@
 //! (rotation substeps, CCD sweeps of huge motions).
 //!
 //! The budget. Since the last reset (the first step of a world, a restore, a
-//! pose, a step that failed) the kinetic energy of the dynamic bodies and
-//! particles can only come from: the kinetic energy they had then, `K₀`; the
+//! pose, a step that failed; the reference is the state after the first step
+//! since, so that initial overlaps pushed apart are not judged) the kinetic
+//! energy of the dynamic bodies and particles can only come from: the kinetic
+//! energy they had then, `K₀`; the
 //! gravity potential they have lost since, `max(0, U₀ − U)`; and the work of
 //! the scene's active sources, accumulated step by step into `A`:
 //!
@@ -23,8 +25,10 @@
 //! - articulation drives: `dt F |q̇|` per driven joint and step, `F` the drive's
 //!   `max_force` or, when that is infinite, `k |q* − q| + c |q̇* − q̇|` (a
 //!   spherical joint's angle error taken as π);
-//! - what the user writes between two `step` calls: the kinetic and gravity
-//!   energy it adds;
+//! - what the user writes to positions, orientations or velocities between two
+//!   `step` calls: the budget then carries what it allowed so far and takes
+//!   the state after the next step as its new reference (forces and drive
+//!   targets written are counted as above);
 //! - and, once, `½ M v_push²`: what pushing initial overlaps apart may give.
 //!
 //! A step is a runaway when the kinetic energy after it exceeds
@@ -35,6 +39,13 @@
 //! the energy error of the integrators. An exponential runaway passes it within
 //! a few steps of leaving the scene's energy scale, while the budget only ever
 //! grows linearly with time.
+//!
+//! When. The check runs every [`CHECK_EVERY`] steps (and before every
+//! checkpoint of `guard`); one that fails replays the steps since the last
+//! check that passed, checking each, and the world goes back before the first
+//! step over budget, never before the current `step` call (earlier calls have
+//! returned): a world already over budget at the start of the call stays as it
+//! was, with the error saying so.
 
 use super::World;
 use crate::articulation::DriveMode;
@@ -65,8 +76,9 @@ pub struct Energy {
 #[derive(Clone, Debug, Default)]
 pub struct Budget {
     live: bool,
-    /// Reset before the first step since: the reference is taken again after
-    /// it (what initial overlaps and a fresh pose give in one step is theirs).
+    /// Reset or written before the first step since: the reference is taken
+    /// after it (what initial overlaps, a fresh pose or a body written off its
+    /// joint give in one step is theirs).
     warm: bool,
     kinetic_ref: f64,
     potential_ref: f64,
@@ -105,9 +117,10 @@ impl Budget {
     }
 
     /// At the start of a `step` call after the user wrote positions,
-    /// orientations or velocities: the world as it is now is explained by the
-    /// energy the budget allowed until now plus what it holds now (the writes
-    /// count as work, and so do the unchecked steps before them).
+    /// orientations or velocities: the world as it is after the next step is
+    /// explained by the energy the budget allowed until now plus what it holds
+    /// then (the writes count as work, and so do the unchecked steps before
+    /// them; a body written off its joint snaps back within that step).
     pub fn written(&mut self, w: &World) {
         if !self.live {
             return self.reset(w);
@@ -115,15 +128,18 @@ impl Budget {
         let e = w.energy();
         let before = self.kinetic_ref + self.allowance + self.work + (self.potential_ref - e.potential).max(0.0);
         let v = w.settings.solver.max_push_velocity;
-        *self = Self { kinetic_ref: e.kinetic, potential_ref: e.potential, allowance: before + 0.5 * e.mass * v * v, work: 0.0, pending: 0, ..self.clone() };
+        *self = Self { warm: true, allowance: before + 0.5 * e.mass * v * v, work: 0.0, pending: 0, ..self.clone() };
     }
 
     /// After a step that left the world finite: adds the most work the
     /// scene's sources can have done over it. Whether a check is due.
     pub fn stepped(&mut self, w: &World, src: &KickSources) -> bool {
-        if !self.live || self.warm {
+        if !self.live {
             self.reset(w);
-            self.warm = false;
+        }
+        if self.warm {
+            let e = w.energy();
+            (self.kinetic_ref, self.potential_ref, self.warm) = (e.kinetic, e.potential, false);
             return false;
         }
         self.work += w.step_work(src, self.mass, self.particle_mass);

@@ -209,6 +209,11 @@ impl Guard {
         self.exposed.fetch_or(bits, Ordering::Relaxed);
     }
 
+    /// The `exposed` bits: the arrays the user holds writable views of.
+    pub fn exposed_bits(&self) -> u16 {
+        self.exposed.load(Ordering::Relaxed)
+    }
+
     /// A guard that takes checkpoints only at the start of a call: a failure
     /// late in a long call replays more, but [`Guard::rewind`] reaches every
     /// step of the current call.

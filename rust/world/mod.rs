@@ -7,6 +7,7 @@ pub mod collision;
 pub mod diagnostics;
 pub mod framing;
 pub mod guard;
+pub mod inputs;
 pub mod joints;
 pub mod link_contacts;
 pub mod particles;

@@ -123,8 +123,13 @@ fn main() {
     // `WINDOW=50` prints the step time and the stage profile every 50 steps.
     let window: u64 = std::env::var("WINDOW").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
     let mut tw = Instant::now();
+    // `GUARDED=1` steps as Python's `World.step(1)` does (`world::guard`'s checks).
+    let mut guard = std::env::var("GUARDED").is_ok_and(|s| s == "1").then(rigidrs::world::guard::Guard::default);
     for k in 1..=steps {
-        w.step(1).unwrap();
+        match guard.as_mut() {
+            Some(g) => w.step_guarded(g, 1, &mut || false).map(|_| ()).unwrap(),
+            None => w.step(1).unwrap(),
+        }
         if window > 0 && k % window == 0 {
             let per_step = |s: f64| s * 1e6 / window as f64;
             let (rows, _) = w.profile.report();

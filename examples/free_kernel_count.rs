@@ -7,7 +7,8 @@
 //! dt = 1/240 s, no gravity, default integrator; the shapes collide with nothing,
 //! so the plan is `translate`, `rotate_asymmetric`). `MODE` is `step` (`world.step(1)`
 //! `STEPS` times, profiling off) or `kernel` (`drift::translate` and
-//! `free_rotation::rotate_asymmetric` called directly), each inside a function of
+//! `free_rotation::rotate_asymmetric` called directly) or `guarded` (`step(1)` as
+//! Python's `World.step` takes it, with the checks of `world::guard`), each inside a function of
 //! its own so that callgrind can count only that:
 //!
 //! ```text
@@ -96,6 +97,17 @@ fn run_step(world: &mut World, steps: u64) -> Result<(), String> {
     world.step(std::hint::black_box(steps)).map_err(|e| e.message)
 }
 
+/// `world.step_guarded(1)` `steps` times, as Python's `World.step(1)` does
+/// (with the divergence and runaway checks of `world::guard`).
+#[inline(never)]
+fn run_guarded(world: &mut World, steps: u64) -> Result<(), String> {
+    let mut guard = rigidrs::world::guard::Guard::default();
+    for _ in 0..steps {
+        world.step_guarded(&mut guard, std::hint::black_box(1), &mut || false).map_err(|e| e.message)?;
+    }
+    Ok(())
+}
+
 #[inline(never)]
 fn run_kernel(world: &mut World, lists: &BodyLists, steps: u64) {
     // The default limit on the rotation per split, as the world uses it.
@@ -123,11 +135,12 @@ fn main() -> Result<(), String> {
                 run_step(&mut world, 1)?;
             }
         }
+        "guarded" => run_guarded(&mut world, steps)?,
         "kernel" => {
             let lists = world.lists().clone();
             run_kernel(&mut world, &lists, steps);
         }
-        _ => return Err(format!("MODE must be step or kernel, not {mode:?}")),
+        _ => return Err(format!("MODE must be step, guarded or kernel, not {mode:?}")),
     }
     let b = &world.bodies;
     let sum: f64 = (0..b.len()).map(|i| b.orientation[i].iter().chain(&b.angular_velocity[i]).sum::<f64>()).sum();

@@ -90,9 +90,14 @@ fn flow_norm(q: &mut Quat, lb: &Vec3, hc: f64) {
 }
 
 /// Most split substeps one body takes in one drift: a body turning faster than
-/// that (`W·dt` above `MAX_SUBSTEPS × max_angle`, some 10⁴ rad per step) is split
-/// this many times and no more, so that one absurd spin cannot stall a step.
-pub const MAX_SUBSTEPS: u32 = 1 << 16;
+/// that (`W·dt` above `MAX_SUBSTEPS × max_angle`: 205 rad per step for strang,
+/// 12 000 rad/s at dt = 1/60) is split this many times and no more, each split
+/// then turning it by more than `max_angle`: still a composition of exact
+/// rotations (|L| kept to round-off), with a larger period error. One absurd
+/// spin costs at most some 10⁵ instructions per step; it was 65 536 splits
+/// (minutes per step for a few bodies spun up by a runaway, which the energy
+/// check of `world::runaway` now stops).
+pub const MAX_SUBSTEPS: u32 = 1024;
 
 /// When an asymmetric body's rotation is subdivided, and how.
 ///

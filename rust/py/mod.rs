@@ -14,6 +14,7 @@ mod recording;
 mod shape_readback;
 mod particles;
 mod scene;
+mod shadow;
 mod shapes;
 mod snapshot;
 mod threads;

@@ -22,11 +22,13 @@ pub struct PyWorld {
     pub guard: Guard,
     /// Recordings fed by `step` (see `recording`).
     pub recorders: super::recording::Attached,
+    /// The view-writable arrays set aside while a step runs (see `shadow`).
+    pub shadow: super::shadow::Shadow,
 }
 
 impl PyWorld {
     pub fn new(inner: World) -> Self {
-        Self { inner, guard: Guard::default(), recorders: Default::default() }
+        Self { inner, guard: Guard::default(), recorders: Default::default(), shadow: Default::default() }
     }
 }
 
@@ -48,7 +50,10 @@ impl PyWorld {
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
         let n = non_negative_int(n, "n")?;
-        let (w, guard, rec) = (&mut self.inner, &mut self.guard, &mut self.recorders);
+        let (w, guard, rec, shadow) = (&mut self.inner, &mut self.guard, &mut self.recorders, &mut self.shadow);
+        // What other threads write through views while the GIL is released
+        // never reaches these steps (`shadow`).
+        shadow.enter(w, guard.exposed_bits());
         let mut signal: Option<PyErr> = None;
         let mut checked = Instant::now();
         let mut interrupted = || {
@@ -67,6 +72,7 @@ impl PyWorld {
                 rec.step(w, n, &mut run, &mut between)
             }))
         });
+        shadow.leave(w);
         match r {
             Ok(result) => result.py_err()?,
             Err(_) => {

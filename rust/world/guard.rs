@@ -20,8 +20,12 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU16, Ordering};
 
+pub use super::inputs::exposed;
+use super::inputs::Inputs;
+use super::runaway::{Budget, Runaway, CHECK_EVERY, RUNAWAY_FACTOR};
 use super::{validate, World};
 use crate::error::{Error, Result};
+use crate::integrate::kick::KickSources;
 
 /// A checkpoint costs one clone of the world (up to most of a step's time
 /// for a contact scene), a failure a replay of up to this many steps.
@@ -35,122 +39,9 @@ const CHECKPOINT_LOG_BYTES: usize = 64 << 20;
 pub struct Watch {
     pub current: &'static str,
     pub first_bad: Option<(&'static str, String)>,
-}
-
-/// The arrays a user can write through views, one bit each. Only those the
-/// user has been given a writable view of (or changed through a method) are
-/// compared and logged: the others change only by stepping.
-pub mod exposed {
-    pub const POSITION: u16 = 1;
-    pub const ORIENTATION: u16 = 2;
-    pub const LINEAR_VELOCITY: u16 = 4;
-    pub const ANGULAR_VELOCITY: u16 = 8;
-    pub const FORCE: u16 = 16;
-    pub const TORQUE: u16 = 32;
-    pub const PARTICLE_POSITION: u16 = 64;
-    pub const PARTICLE_VELOCITY: u16 = 128;
-    pub const TARGET: u16 = 256;
-}
-
-/// The memory of a slice of `f64` or of arrays of them.
-trait Floats: Copy {}
-impl Floats for f64 {}
-impl<const N: usize> Floats for [f64; N] {}
-
-/// Bitwise equality (`==` on floats would take -0.0 for 0.0 and never NaN for
-/// NaN), as one memory compare.
-fn same<T: Floats>(a: &[T], b: &[T]) -> bool {
-    fn bytes<T: Floats>(v: &[T]) -> &[u8] {
-        // Safety: `T` is f64 or an array of f64: no padding, every byte
-        // initialised; the slice covers exactly the memory of `v`, borrowed
-        // for as long.
-        unsafe { std::slice::from_raw_parts(v.as_ptr() as *const u8, std::mem::size_of_val(v)) }
-    }
-    bytes(a) == bytes(b)
-}
-
-/// The view-writable arrays named by `mask`, as they were (the others empty).
-#[derive(Clone, Debug, Default)]
-struct Inputs {
-    mask: u16,
-    position: Vec<[f64; 3]>,
-    orientation: Vec<[f64; 4]>,
-    linear_velocity: Vec<[f64; 3]>,
-    angular_velocity: Vec<[f64; 3]>,
-    force: Vec<[f64; 3]>,
-    torque: Vec<[f64; 3]>,
-    particle_position: Vec<[f64; 3]>,
-    particle_velocity: Vec<[f64; 3]>,
-    target: Vec<f64>,
-}
-
-/// `f(mask, bit, array of w, field of inputs)` for each view-writable array,
-/// and-ed (every call is made).
-macro_rules! each_input {
-    ($f:ident, $mask:expr, $w:expr, $i:expr) => {{
-        use exposed::*;
-        let (mut no_position, mut no_velocity) = (Vec::new(), Vec::new());
-        let (b, t) = (&mut $w.bodies, &mut $w.joint_target);
-        let (pp, pv) = match $w.xpbd.as_mut() {
-            Some(x) => (&mut x.particles.position, &mut x.particles.velocity),
-            None => (&mut no_position, &mut no_velocity),
-        };
-        let m = $mask;
-        $f(m, POSITION, &mut b.position, &mut $i.position)
-            & $f(m, ORIENTATION, &mut b.orientation, &mut $i.orientation)
-            & $f(m, LINEAR_VELOCITY, &mut b.linear_velocity, &mut $i.linear_velocity)
-            & $f(m, ANGULAR_VELOCITY, &mut b.angular_velocity, &mut $i.angular_velocity)
-            & $f(m, FORCE, &mut b.force, &mut $i.force)
-            & $f(m, TORQUE, &mut b.torque, &mut $i.torque)
-            & $f(m, PARTICLE_POSITION, pp, &mut $i.particle_position)
-            & $f(m, PARTICLE_VELOCITY, pv, &mut $i.particle_velocity)
-            & $f(m, TARGET, t, &mut $i.target)
-    }};
-}
-
-fn copy_in<T: Floats>(mask: u16, bit: u16, world: &mut Vec<T>, kept: &mut Vec<T>) -> bool {
-    if mask & bit != 0 {
-        kept.clone_from(world);
-    } else {
-        kept.clear();
-    }
-    true
-}
-
-fn equal<T: Floats>(mask: u16, bit: u16, world: &[T], kept: &[T]) -> bool {
-    mask & bit == 0 || same(world, kept)
-}
-
-fn put_back<T: Floats>(mask: u16, bit: u16, world: &mut [T], kept: &[T]) -> bool {
-    if mask & bit != 0 {
-        world.copy_from_slice(kept);
-    }
-    true
-}
-
-impl Inputs {
-    /// Copies the arrays of `mask` from `w`.
-    fn read(&mut self, w: &mut World, mask: u16) {
-        self.mask = mask;
-        let _ = each_input!(copy_in, mask, w, self);
-    }
-
-    /// Whether `w`'s arrays of `mask` are bitwise these.
-    fn same_as(&mut self, w: &mut World, mask: u16) -> bool {
-        self.mask == mask && each_input!(equal, mask, w, self)
-    }
-
-    /// Writes these values back (into the same memory: views stay valid).
-    fn write(&mut self, w: &mut World) {
-        let _ = each_input!(put_back, self.mask, w, self);
-    }
-
-    fn bytes(&self) -> usize {
-        8 * (3 * (self.position.len() + self.linear_velocity.len() + self.angular_velocity.len() + self.force.len())
-            + 3 * (self.torque.len() + self.particle_position.len() + self.particle_velocity.len())
-            + 4 * self.orientation.len()
-            + self.target.len())
-    }
+    /// Re-running a runaway: the energy budget before the step (a stage that
+    /// ends over it is the culprit).
+    pub budget: Option<Budget>,
 }
 
 /// One `step` call since the checkpoint: the inputs the user wrote before it
@@ -178,6 +69,8 @@ pub struct Guard {
     /// Checkpoints only at the start of a call, never between two of its
     /// steps (a batch: any copy can then be rewound to any step of the call).
     calls_only: bool,
+    /// The energy the scene can explain (`runaway`).
+    budget: Budget,
 }
 
 impl Guard {
@@ -191,6 +84,11 @@ impl Guard {
     /// changed through a method): from now on they are compared and logged.
     pub fn expose(&self, bits: u16) {
         self.exposed.fetch_or(bits, Ordering::Relaxed);
+    }
+
+    /// The `exposed` bits: the arrays the user holds writable views of.
+    pub fn exposed_bits(&self) -> u16 {
+        self.exposed.load(Ordering::Relaxed)
     }
 
     /// A guard that takes checkpoints only at the start of a call: a failure
@@ -212,20 +110,34 @@ impl Guard {
         self.log_bytes = 0;
     }
 
-    /// At the start of a call, before `prepare`.
-    fn begin(&mut self, w: &mut World) {
-        if self.stale || self.checkpoint.is_none() || self.due() {
-            self.stale = false;
-            return self.checkpoint(w, true);
-        }
+    /// At the start of a call, before `prepare`. Fails (logging nothing) when
+    /// the energy check that a checkpoint due now needs first fails.
+    fn begin(&mut self, w: &mut World) -> std::result::Result<(), Runaway> {
+        let fresh = self.stale || self.checkpoint.is_none();
         let mask = self.exposed.load(Ordering::Relaxed);
-        let inputs = (!self.last.same_as(w, mask)).then(|| {
+        let written = !fresh && !self.last.same_as(w, mask);
+        if fresh {
+            self.budget.reset(w);
+        } else if written && !self.last.same_in(w, mask & exposed::STATE) {
+            self.budget.written(w);
+        } else if self.due() {
+            // The steps since the last check must pass before a checkpoint
+            // covers them (a failed one is found by replaying from the last).
+            self.budget.check(w)?;
+        }
+        if fresh || self.due() {
+            self.stale = false;
+            self.checkpoint(w, true);
+            return Ok(());
+        }
+        let inputs = written.then(|| {
             let mut i = Inputs::default();
             i.read(w, mask);
             self.log_bytes += i.bytes();
             i
         });
         self.calls.push(Call { inputs, prepare: true, steps: 0 });
+        Ok(())
     }
 
     /// The current call's `prepare` failed: a replay must not run it.
@@ -235,18 +147,86 @@ impl Guard {
         }
     }
 
-    fn stepped(&mut self, w: &World) {
+    /// After a step that left the world finite: logs it, checks the energy
+    /// when due (always before a checkpoint), takes the checkpoint when due.
+    fn stepped(&mut self, w: &World, src: &KickSources) -> std::result::Result<(), Runaway> {
         if let Some(c) = self.calls.last_mut() {
             c.steps += 1;
         }
         self.steps += 1;
-        if self.steps >= CHECKPOINT_STEPS && !self.calls_only {
+        let checkpoint = self.steps >= CHECKPOINT_STEPS && !self.calls_only;
+        if self.budget.stepped(w, src) || checkpoint {
+            self.budget.check(w)?;
+        }
+        if checkpoint {
             self.checkpoint(w, false);
         }
+        Ok(())
+    }
+
+    /// After a failed energy check: replays from the checkpoint to the last
+    /// check that passed (at step `from`), then step by step, checking each,
+    /// and leaves `w` before the first step over budget. Returns the budget
+    /// before that step, what it broke and whether the state at `from` (which
+    /// no check saw: the start of the call) was already over budget; `None`
+    /// (and `w` untouched) when the replay cannot be done or finds no such step.
+    fn runaway_step(&mut self, w: &mut World, from: u64) -> Option<(Budget, Runaway, bool)> {
+        let cp = self.checkpoint.as_deref()?;
+        if cp.steps > from {
+            return None;
+        }
+        let mut probe = cp.clone();
+        let mut budget = self.budget.at_last_check();
+        let mut found: Option<(World, Budget, Runaway, bool)> = None;
+        let replayed = catch_unwind(AssertUnwindSafe(|| {
+            'calls: for c in &mut self.calls {
+                if let Some(i) = &mut c.inputs {
+                    i.write(&mut probe);
+                }
+                if c.prepare {
+                    probe.prepare();
+                }
+                let src = probe.kick_sources();
+                for _ in 0..c.steps {
+                    if probe.steps < from {
+                        probe.one_step(&src);
+                        continue;
+                    }
+                    let before = (probe.clone(), budget.clone());
+                    if probe.steps == from {
+                        if let Some(r) = budget.over(&probe) {
+                            found = Some((before.0, before.1, r, true));
+                            break 'calls;
+                        }
+                    }
+                    probe.one_step(&src);
+                    budget.stepped(&probe, &src);
+                    if let Err(r) = budget.check(&probe) {
+                        found = Some((before.0, before.1, r, false));
+                        break 'calls;
+                    }
+                }
+                probe.finish();
+            }
+        }));
+        let (before, budget, r, already) = found.filter(|_| replayed.is_ok())?;
+        w.restore(&before).ok()?;
+        self.stale = true;
+        Some((budget, r, already))
     }
 
     fn end(&mut self, w: &mut World) {
         self.last.read(w, self.exposed.load(Ordering::Relaxed));
+    }
+
+    /// Puts `w` back to the checkpoint (a runaway whose step the replay did
+    /// not find). Always false: `w` is not before the failed step.
+    fn to_checkpoint(&mut self, w: &mut World) -> bool {
+        if let Some(cp) = self.checkpoint.as_deref() {
+            let _ = w.restore(cp);
+        }
+        self.stale = true;
+        false
     }
 
     /// Puts `w` back to the checkpoint and replays the log: the state before
@@ -330,6 +310,13 @@ impl Guard {
 /// Why a step failed.
 enum Failure {
     NotFinite,
+    /// Found by the energy check of a step of this call (which started at
+    /// the step count given): undone to before the first step of the call
+    /// over budget.
+    Runaway(Runaway, u64),
+    /// Found before the call's first step (unchecked steps of the calls
+    /// before): nothing to undo.
+    RunawayBefore(Runaway),
     Panic(String),
 }
 
@@ -348,8 +335,23 @@ impl World {
     /// After a stage of a watched step: the first stage that left the state
     /// not finite.
     pub(crate) fn watch_after(&mut self, stage: &'static str) {
-        if self.watch.as_ref().is_some_and(|w| w.first_bad.is_none()) && !self.state_finite() {
+        let Some(watch) = self.watch.as_ref() else { return };
+        if watch.first_bad.is_some() {
+            return;
+        }
+        if !self.state_finite() {
             let what = self.culprit();
+            if let Some(w) = self.watch.as_mut() {
+                w.first_bad = Some((stage, what));
+            }
+            return;
+        }
+        let over = watch.budget.as_ref().is_some_and(|b| {
+            let e = self.energy();
+            e.kinetic > b.bound(e.potential)
+        });
+        if over {
+            let what = self.fastest();
             if let Some(w) = self.watch.as_mut() {
                 w.first_bad = Some((stage, what));
             }
@@ -400,7 +402,10 @@ impl World {
     /// the time.
     pub fn step_guarded(&mut self, guard: &mut Guard, n: u64, interrupted: &mut dyn FnMut() -> bool) -> Result<u64> {
         self.check_inputs()?;
-        guard.begin(self);
+        if let Err(r) = guard.begin(self) {
+            return Err(self.undo(guard, Failure::RunawayBefore(r)));
+        }
+        let start = self.steps;
         if let Err(p) = catch_unwind(AssertUnwindSafe(|| self.prepare())) {
             // Undone as a failed step, but to the start of this call.
             guard.unprepared();
@@ -429,7 +434,10 @@ impl World {
                 return Err(self.undo(guard, f));
             }
             done += 1;
-            guard.stepped(self);
+            if let Err(r) = guard.stepped(self, &src) {
+                self.profile.count_steps(done);
+                return Err(self.undo(guard, Failure::Runaway(r, start)));
+            }
         }
         self.profile.count_steps(done);
         self.finish();
@@ -439,11 +447,44 @@ impl World {
 
     /// Puts the world back before the failed step and says what failed.
     fn undo(&mut self, guard: &mut Guard, failure: Failure) -> Error {
-        let back = guard.roll_back(self);
+        let (back, budget, failure) = match failure {
+            Failure::Runaway(r, start) => {
+                // Never before the call: the calls before it returned.
+                let from = (self.steps - guard.budget.pending() as u64).max(start);
+                match guard.runaway_step(self, from) {
+                    Some((_, r, true)) => return self.undo(guard, Failure::RunawayBefore(r)),
+                    Some((b, r, false)) => (true, Some(b), Failure::Runaway(r, start)),
+                    None => (guard.to_checkpoint(self), None, Failure::Runaway(r, start)),
+                }
+            }
+            Failure::RunawayBefore(r) => {
+                guard.invalidate();
+                let t = self.time();
+                return Error::simulation(format!(
+                    "the world ran away before t = {t:.6} s, over the last steps of the calls before this one (the energy \
+                     is checked every {CHECK_EVERY} steps): {}; it holds {:.4e} J of kinetic energy, over {RUNAWAY_FACTOR} times the {:.4e} J that the energy at the \
+                     last reset, gravity, applied forces, drives, kinematic bodies and contact push-out can explain; \
+                     the world is as at the start of this call (the next call starts a new energy budget; a smaller dt, more substeps or a \
+                     stable integrator such as strang or implicit_gyro avoids it)",
+                    self.fastest(),
+                    r.kinetic,
+                    r.bound / RUNAWAY_FACTOR
+                ));
+            }
+            f => (guard.roll_back(self), None, f),
+        };
         let t = self.time();
-        let (stage, what) = if back { self.diagnose() } else { ("?", String::new()) };
+        let (stage, what) = if back { self.diagnose(budget) } else { ("?", String::new()) };
         let head = match &failure {
             Failure::NotFinite => format!("the step from t = {t:.6} s diverged in stage '{stage}': {what}"),
+            Failure::Runaway(r, _) => format!(
+                "the step from t = {t:.6} s ran away in stage '{stage}': {what}; it ended with {:.4e} J of kinetic \
+                 energy, over {RUNAWAY_FACTOR} times the {:.4e} J that the energy at the last reset, gravity, applied \
+                 forces, drives, kinematic bodies and contact push-out can explain",
+                r.kinetic,
+                r.bound / RUNAWAY_FACTOR
+            ),
+            Failure::RunawayBefore(_) => String::new(), // returned above
             Failure::Panic(m) => format!(
                 "internal error in stage '{stage}' of the step from t = {t:.6} s (a bug in rigidrs: please report \
                  it): {m}"
@@ -455,7 +496,7 @@ impl World {
             format!("the world could not be replayed to that step and is back at its last checkpoint, t = {t:.6} s")
         };
         let hint = match failure {
-            Failure::NotFinite => " (a smaller dt, more substeps or a stable integrator such as strang or implicit_gyro avoids it)",
+            Failure::NotFinite | Failure::Runaway(..) | Failure::RunawayBefore(_) => " (a smaller dt, more substeps or a stable integrator such as strang or implicit_gyro avoids it)",
             Failure::Panic(_) => "",
         };
         Error::simulation(format!("{head}; {tail}{hint}"))
@@ -463,9 +504,9 @@ impl World {
 
     /// Runs the failed step again on a copy, watched: the stage that failed
     /// and the body or particle it left not finite.
-    fn diagnose(&self) -> (&'static str, String) {
+    fn diagnose(&self, budget: Option<Budget>) -> (&'static str, String) {
         let mut probe = self.clone();
-        probe.watch = Some(Watch::default());
+        probe.watch = Some(Watch { budget, ..Watch::default() });
         probe.profile.enabled = false;
         let src = probe.kick_sources();
         let panicked = catch_unwind(AssertUnwindSafe(|| probe.one_step(&src))).is_err();
@@ -479,98 +520,5 @@ impl World {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::Guard;
-    use crate::body::Shape;
-    use crate::world::{BodySpec, Scene, Settings, World};
-
-    /// Eight boxes falling in a column onto a fixed box: contacts from step ~20.
-    fn column() -> World {
-        let mut scene = Scene::new([0.0, 0.0, -9.81]).unwrap();
-        let floor = BodySpec { shape: Some(Shape::cuboid([5.0, 5.0, 0.5]).unwrap()), fixed: true, ..Default::default() };
-        scene.add_body(floor).unwrap();
-        for k in 0..8 {
-            let spec = BodySpec {
-                shape: Some(Shape::cuboid([0.2, 0.2, 0.2]).unwrap()),
-                density: Some(500.0),
-                position: [0.03 * k as f64, 0.0, 1.0 + 0.5 * k as f64],
-                ..Default::default()
-            };
-            scene.add_body(spec).unwrap();
-        }
-        scene.build(&Settings::new(1.0 / 60.0)).unwrap()
-    }
-
-    fn bits(w: &World) -> Vec<u64> {
-        let b = &w.bodies;
-        let rows = b.position.iter().chain(&b.linear_velocity).chain(&b.angular_velocity);
-        rows.flatten().chain(b.orientation.iter().flatten()).map(|x| x.to_bits()).chain([w.steps]).collect()
-    }
-
-    #[test]
-    fn a_panic_inside_a_step_is_undone_exactly() {
-        let (mut world, mut twin) = (column(), column());
-        let mut guard = Guard::default();
-        world.step_guarded(&mut guard, 30, &mut || false).unwrap();
-        world.fail_at = Some(47);
-        let err = world.step_guarded(&mut guard, 40, &mut || false).unwrap_err();
-        assert!(err.message.contains("internal error in stage 'narrow_phase'"), "{}", err.message);
-        assert!(err.message.contains("injected failure"), "{}", err.message);
-        assert_eq!(world.steps, 47);
-        twin.step(30).unwrap();
-        twin.step(17).unwrap();
-        assert_eq!(bits(&world), bits(&twin));
-        world.fail_at = None;
-        world.step_guarded(&mut guard, 20, &mut || false).unwrap();
-        twin.step(20).unwrap();
-        assert_eq!(bits(&world), bits(&twin));
-    }
-
-    #[test]
-    fn a_panic_while_preparing_is_undone_to_the_start_of_the_call() {
-        let (mut world, mut twin) = (column(), column());
-        let mut guard = Guard::default();
-        world.step_guarded(&mut guard, 10, &mut || false).unwrap();
-        world.step_guarded(&mut guard, 15, &mut || false).unwrap();
-        // As a writable view does: the guard logs what is written through it.
-        guard.expose(super::exposed::LINEAR_VELOCITY);
-        world.bodies.linear_velocity[3] = [0.5, 0.0, 0.0];
-        world.fail_at = Some(u64::MAX);
-        let err = world.step_guarded(&mut guard, 5, &mut || false).unwrap_err();
-        assert!(err.message.contains("internal error while preparing"), "{}", err.message);
-        twin.step(10).unwrap();
-        twin.step(15).unwrap();
-        twin.bodies.linear_velocity[3] = [0.5, 0.0, 0.0];
-        assert_eq!(bits(&world), bits(&twin));
-        world.fail_at = None;
-        world.step_guarded(&mut guard, 5, &mut || false).unwrap();
-        twin.step(5).unwrap();
-        assert_eq!(bits(&world), bits(&twin));
-    }
-
-    #[test]
-    fn an_interrupt_stops_at_a_step_boundary() {
-        let mut world = column();
-        let mut calls = 0;
-        let done = world.step_guarded(&mut Guard::default(), 100, &mut || {
-            calls += 1;
-            calls == 5
-        });
-        assert_eq!(done.unwrap(), 5);
-        assert_eq!(world.steps, 5);
-    }
-
-    #[test]
-    fn snapshot_bytes_round_trip_steps_on_bitwise() {
-        let mut world = column();
-        world.step(40).unwrap();
-        let mut loaded = World::from_bytes(&world.to_bytes().unwrap()).unwrap();
-        world.step(40).unwrap();
-        loaded.step(40).unwrap();
-        assert_eq!(bits(&world), bits(&loaded));
-        let data = world.to_bytes().unwrap();
-        for cut in [0, 10, 40, data.len() / 2, data.len() - 1] {
-            assert!(World::from_bytes(&data[..cut]).is_err(), "cut at {cut}");
-        }
-    }
-}
+#[path = "guard_tests.rs"]
+mod tests;

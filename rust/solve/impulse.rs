@@ -79,21 +79,6 @@ impl Rule {
         }
     }
 
-    /// The largest normal velocity (m/s) at which a point at (effective)
-    /// separation `s` may leave while it pushes: the speed that closes a gap
-    /// within the substep (negative), its push-out speed in the first pass, at
-    /// rest in the relax pass.
-    #[inline(always)]
-    pub(crate) fn allowed(&self, s: f64) -> f64 {
-        if s > 0.0 {
-            -self.bias(s)
-        } else if self.relax {
-            0.0
-        } else {
-            self.push_out_speed(s)
-        }
-    }
-
     /// Impulse increment of a point solved both ways: rigid, a penetration pushed
     /// out at the soft contact's rate (at most `max_push_velocity`) in the first
     /// pass and the push-out taken back by the relax pass.

@@ -1,26 +1,25 @@
 //! Contacts give back what they push beyond their target.
 //!
-//! After a velocity pass every point that pushes (`λ > 0`) should meet its
-//! target exactly: a gap closing within the substep, a penetration pushed out
-//! at its push-out speed, a resting contact at rest. A point whose bodies
-//! leave faster than that pushes too hard: what the warm start re-applied in a
-//! configuration that no longer needs it, and what an unconverged sweep left.
-//! Taking the excess over `t⁺ = max(t, 0)` back, point by point, only ever
-//! removes kinetic energy: the impulse `−δ n` acts where the bodies separate at
-//! `v_n > t⁺` and leaves them at `v_n' ≥ t⁺ ≥ 0`, so its work
-//! `−δ (v_n + v_n')/2` is negative. (A gap still closing slower than it may is
-//! the next pass's business: speeding the approach up would add energy.)
+//! After a velocity pass a point that pushes (`λ > 0`) may leave at most at
+//! its push-out speed `t` (0 unless it penetrates). A point whose bodies leave
+//! faster pushes too hard: what the warm start re-applied in a configuration
+//! that no longer needs it, and what an unconverged sweep left. Taking the
+//! excess back, point by point, only ever removes kinetic energy: the impulse
+//! `−δ n` acts where the bodies separate at `v_n > t` and leaves them at
+//! `v_n' ≥ t ≥ 0`, so its work `−δ (v_n + v_n')/2` is negative. (A gap still
+//! closing slower than it may is the next pass's business: speeding the
+//! approach up would add energy.)
 
 use super::contact::ContactSolver;
 use super::impulse::Rule;
 use super::solver_body::{Gap, Pair};
 
 impl ContactSolver {
-    /// One pass over the points of every contact not on an articulated link
-    /// and not a settled support contact:
-    /// each point that pushes and ends faster apart than `rule` allows gives
-    /// back the excess (at most all it pushes); the patch's friction and twist
-    /// shrink with its normal impulse to stay in its cone.
+    /// One pass (of the first, velocity pass: `rule` pushes out) over the points
+    /// of every contact not on an articulated link and not a settled support
+    /// contact: each point that pushes and ends faster apart than its push-out
+    /// speed gives back the excess (at most all it pushes); the patch's friction
+    /// and twist shrink with its normal impulse to stay in its cone.
     ///
     /// Without support blocks the contacts are plain Gauss–Seidel with a warm
     /// start (as in Box2D and Rapier), whose own pass takes any excess back:
@@ -46,7 +45,7 @@ impl ContactSolver {
                 before += p.normal_impulse;
                 if p.normal_impulse > 0.0 {
                     let s = rule.effective(gap.separation(p));
-                    let excess = pair.normal_velocity(c, p) - rule.allowed(s).max(0.0);
+                    let excess = pair.normal_velocity(c, p) - rule.push_out_speed(s);
                     if excess > tolerance {
                         let d = (p.normal_mass * excess).min(p.normal_impulse);
                         p.normal_impulse -= d;

@@ -122,7 +122,12 @@ impl ContactSolver {
         for ci in 0..self.constraints.len() {
             self.constraints[ci].settled = self.settled(ci, b, speed);
         }
-        let held = self.levels(up, |ci| self.constraints[ci].settled);
+        // Only an unsettled contact asks whether its lower body is held.
+        let held = if self.constraints.iter().all(|c| c.settled) {
+            Vec::new()
+        } else {
+            self.levels(up, |ci| self.constraints[ci].settled)
+        };
         let mut supports: Vec<(u32, u32, u32)> = Vec::new();
         for ci in 0..self.constraints.len() {
             let mut lower = self.lower_side(ci, up, &level);
@@ -194,7 +199,7 @@ impl ContactSolver {
         let c = &self.constraints[ci];
         let (below, above) = if lower == 1 { (c.s1, c.s2) } else { (c.s2, c.s1) };
         let heavy = self.bodies[above as usize].inv_m * MASS_RATIO < self.bodies[below as usize].inv_m;
-        c.settled || (heavy && held[below as usize] != u32::MAX)
+        c.settled || (heavy && held.get(below as usize).is_some_and(|&l| l != u32::MAX))
     }
 
     /// Whether the bodies of constraint `ci` meet at its points slower than

@@ -13,6 +13,8 @@ could fall from the top of the lattice, `sqrt(2 g z_top)` (12.9 m/s), none
 ends above where the lattice started, and the pile's kinetic plus potential
 energy never rises by more than 1 % above its lowest value so far (the
 allowance of `test_collapse_energy.py` for push-out and soft contacts).
+Measured after the fix: fastest upward 5.95 m/s, highest 4.69 m (Rapier's
+4.74 m), energy rise 0.7 %.
 """
 import numpy as np
 

@@ -193,7 +193,7 @@ impl ContactSolver {
             self.lay_out_rows();
         }
         for g in 0..self.support.blocks.len() {
-            if all || self.support.blocks[g].dirty {
+            if (all && !self.keep_block(g)) || (!all && self.support.blocks[g].dirty) {
                 self.assemble_block(g);
             }
         }

@@ -142,6 +142,9 @@ pub struct Constraint {
     /// at the step start, or one of them is fixed or kinematic: only then may
     /// the support sweeps hold its lower body (see `super::support`).
     pub settled: bool,
+    /// Its arms, masses and patch are still those of its anchors (not
+    /// refreshed since built): they may be kept next step (see `super::reuse`).
+    pub as_built: bool,
 }
 
 /// The contact solver's state for one step.
@@ -156,7 +159,7 @@ pub struct ContactSolver {
     pub(crate) ordinary: Vec<u32>,
     pub(crate) support: super::support::Support,
     /// Per world body: its solver index this step (0 when not in the solve).
-    slot: Vec<u32>,
+    pub(crate) slot: Vec<u32>,
     /// Per solver body: pose at the step start.
     pub(crate) p0: Vec<Vec3>,
     pub(crate) q0: Vec<Quat>,
@@ -170,6 +173,8 @@ pub struct ContactSolver {
     pub(crate) gathered: bool,
     /// The contacts on articulated links.
     pub gen: super::generalized::Generalized,
+    /// Last step's constraints and blocks, for their geometry.
+    pub(crate) previous: super::reuse::Previous,
     /// Velocities before this substep's warm start (see `super::warm_guard`).
     pub(crate) guard: super::warm_guard::WarmGuard,
 }
@@ -195,7 +200,7 @@ impl ContactSolver {
             return 0;
         }
         let dynamic = b.awake(i);
-        let inv_i = if dynamic { inv_inertia_world(b, i) } else { Mat3::zeros() };
+        let inv_i = if dynamic { self.reference_inv_inertia(b, i) } else { Mat3::zeros() };
         self.bodies.push(SolverBody {
             inv_m: if dynamic { b.inv_mass[i] } else { 0.0 },
             inv_i,
@@ -216,10 +221,7 @@ impl ContactSolver {
             self.slot[s.body as usize] = 0;
             self.touching[s.body as usize] = false;
         }
-        self.constraints.clear();
-        self.patches.clear();
-        self.points.clear();
-        self.bodies.clear();
+        self.set_aside();
         self.bodies.push(SolverBody::default());
         self.p0.clear();
         self.q0.clear();
@@ -286,13 +288,11 @@ impl ContactSolver {
         let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
         let sub2 = manifold.subshape_pos2.map_or(ctx.pose2, |s| ctx.pose2 * s);
         let n = sub1.rotation * manifold.local_n1;
-        let t1 = orthonormal(&n);
-        let t2 = n.cross(&t1);
         let start = self.points.len() as u32;
         for (k, tp) in manifold.points.iter().enumerate().filter(|(_, tp)| tp.dist <= reach) {
             let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
             let (r1, r2) = (mid - ctx.x1, mid - ctx.x2);
-            let mut p = Point {
+            let p = Point {
                 anchor1: r1,
                 anchor2: r2,
                 r1,
@@ -309,9 +309,29 @@ impl ContactSolver {
                 },
                 ..Default::default()
             };
-            self.masses(&mut p, ctx.s1 as usize, ctx.s2 as usize, &n);
             self.points.push(p);
         }
+        // The prepare pass (warm) may keep last step's geometry; an impact's
+        // contact is computed afresh.
+        let kept = if warm { self.keepable(ctx, index, &n, start as usize) } else { None };
+        if warm {
+            self.previous.kept.push(kept.map_or(super::reuse::NONE, |k| k as u32));
+        }
+        let (n, t1, t2, kept_patch) = match kept {
+            Some(oi) => {
+                let (n, t1, t2, patch) = self.keep(oi, start as usize);
+                (n, t1, t2, Some(patch))
+            }
+            None => {
+                let t1 = orthonormal(&n);
+                for k in start as usize..self.points.len() {
+                    let mut p = self.points[k];
+                    self.masses(&mut p, ctx.s1 as usize, ctx.s2 as usize, &n);
+                    self.points[k] = p;
+                }
+                (n, t1, n.cross(&t1), None)
+            }
+        };
         let constraint = Constraint {
             s1: ctx.s1,
             s2: ctx.s2,
@@ -333,8 +353,9 @@ impl ContactSolver {
             group: 0,
             generalized: (ctx.s1 != 0 && self.is_link(ctx.b1)) || (ctx.s2 != 0 && self.is_link(ctx.b2)),
             settled: true,
+            as_built: true,
         };
-        let mut patch = Patch::new(&constraint, &self.points[start as usize..], &self.bodies);
+        let mut patch = kept_patch.unwrap_or_else(|| Patch::new(&constraint, &self.points[start as usize..], &self.bodies));
         if warm {
             // Each point carries its share of the patch's impulses: summed, they
             // survive points that appear or vanish between steps.
@@ -396,6 +417,7 @@ impl ContactSolver {
     /// The patch of constraint `ci` at its points' current arms, keeping its
     /// impulses and state.
     pub(crate) fn refresh_patch(&mut self, ci: usize) {
+        self.constraints[ci].as_built = false;
         let c = &self.constraints[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
         self.patches[ci].set_geometry(c, &self.points[range], &self.bodies);

@@ -67,6 +67,23 @@ impl Patch {
         f
     }
 
+    /// A patch with the geometry of `o` (arms, effective masses, shape) and no
+    /// impulses.
+    pub fn with_geometry_of(o: &Patch) -> Self {
+        Patch {
+            rt1: o.rt1,
+            rt2: o.rt2,
+            irt1: o.irt1,
+            irt2: o.irt2,
+            in1: o.in1,
+            in2: o.in2,
+            tangent_mass: o.tangent_mass,
+            friction_mass: o.friction_mass,
+            shape: o.shape,
+            ..Default::default()
+        }
+    }
+
     /// Brings the arms, effective masses and lever up to the points' current arms,
     /// keeping the impulses and regime.
     pub fn set_geometry(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {

@@ -16,5 +16,6 @@ pub mod soft;
 pub mod solver_body;
 pub mod warm_guard;
 pub mod release;
+pub mod reuse;
 
 pub use contact::{ContactSolver, SolverSettings};

@@ -1,0 +1,219 @@
+//! Contact geometry kept from one step to the next while the bodies of a
+//! manifold stay put: the arms, effective masses and friction patch of a
+//! constraint, and `K`, its factor and the least-norm operator of a support
+//! block, are recomputed only when something they depend on has moved.
+//!
+//! A resting pyramid rebuilt them every step for nothing: the patch geometry and
+//! the blocks took 22 % of its step. The tolerance is the one within a step (see
+//! `solver_body::MOVE_EPS`): a body that has moved less than 1 µm keeps its
+//! arms. Kept geometry is taken whole, anchors and normal included, so what the
+//! solve sees is exactly what was computed at those anchors, and the next step
+//! compares against the same anchors: a slow creep adds up until it shows.
+//!
+//! Each world body's inertia is taken at a reference orientation that follows
+//! the body once it has turned by more than the tolerance, so an unchanged
+//! inertia is equal bit for bit and a block's `K` can be kept whole too.
+
+use super::block::{Block, RowKind};
+use super::contact::{Constraint, ContactSolver, PairContext, Point};
+use super::friction::Patch;
+use super::solver_body::SolverBody;
+use crate::body::Bodies;
+use crate::math::{quat, Mat3, Quat, Vec3};
+
+/// Displacement (m) and quaternion change below which geometry is kept: as
+/// `solver_body::MOVE_EPS`.
+const KEEP_EPS: f64 = 1e-6;
+
+/// How far (m) beyond the nearest point a point counts as touching, for the
+/// question whether a patch is still made of the same points: as
+/// `friction::TOUCH`.
+const TOUCH: f64 = 1e-4;
+
+/// The previous step's constraints and blocks, kept for their geometry.
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct Previous {
+    pub constraints: Vec<Constraint>,
+    pub points: Vec<Point>,
+    pub patches: Vec<Patch>,
+    pub bodies: Vec<SolverBody>,
+    /// Next constraint to look at (constraints come in the order of their pairs).
+    cursor: usize,
+    /// Which constraint of this step took the geometry of which of the last.
+    pub kept: Vec<u32>,
+    pub blocks: Vec<Block>,
+    pub faces: Vec<u32>,
+    pub rows: Vec<super::block::Row>,
+    pub k: Vec<f64>,
+    pub factor: Vec<f64>,
+    /// Per world body: its block last step (`u32::MAX`: none).
+    pub block_of: Vec<u32>,
+    /// Per world body: the orientation its inertia is taken at.
+    pub orientation: Vec<Quat>,
+}
+
+/// Marks a constraint whose geometry was computed afresh.
+pub const NONE: u32 = u32::MAX;
+
+impl ContactSolver {
+    /// Sets this step's constraints and blocks aside as the last step's.
+    pub(crate) fn set_aside(&mut self) {
+        let p = &mut self.previous;
+        // Forget the blocks of two steps ago before their bodies go.
+        for b in &p.blocks {
+            if let Some(e) = p.bodies.get(b.body as usize).and_then(|sb| p.block_of.get_mut(sb.body as usize)) {
+                *e = NONE;
+            }
+        }
+        std::mem::swap(&mut p.constraints, &mut self.constraints);
+        std::mem::swap(&mut p.points, &mut self.points);
+        std::mem::swap(&mut p.patches, &mut self.patches);
+        std::mem::swap(&mut p.bodies, &mut self.bodies);
+        let s = &mut self.support;
+        std::mem::swap(&mut p.blocks, &mut s.blocks);
+        std::mem::swap(&mut p.faces, &mut s.faces);
+        std::mem::swap(&mut p.rows, &mut s.rows);
+        std::mem::swap(&mut p.k, &mut s.k);
+        std::mem::swap(&mut p.factor, &mut s.factor);
+        p.block_of.resize(self.slot.len(), NONE);
+        for (g, b) in p.blocks.iter().enumerate() {
+            if let Some(e) = p.bodies.get(b.body as usize).and_then(|sb| p.block_of.get_mut(sb.body as usize)) {
+                *e = g as u32;
+            }
+        }
+        p.cursor = 0;
+        p.kept.clear();
+        self.constraints.clear();
+        self.points.clear();
+        self.patches.clear();
+        self.bodies.clear();
+    }
+
+    /// The inverse world inertia of body `i` at its reference orientation.
+    pub(crate) fn reference_inv_inertia(&mut self, b: &Bodies, i: usize) -> Mat3 {
+        let o = &mut self.previous.orientation;
+        if o.len() <= i {
+            o.resize(i + 1, Quat::new(0.0, 0.0, 0.0, 0.0));
+        }
+        let q = b.q(i);
+        if (q - o[i]).norm() > KEEP_EPS {
+            o[i] = q;
+        }
+        let r = quat::to_matrix(&o[i]);
+        r * Mat3::from_diagonal(&Vec3::from(b.inv_inertia[i])) * r.transpose()
+    }
+
+    /// The last step's constraint of manifold `index` of the pair, if its
+    /// geometry holds for the points from `start` just laid out with normal `n`.
+    pub(crate) fn keepable(&mut self, ctx: &PairContext, index: u32, n: &Vec3, start: usize) -> Option<usize> {
+        let p = &mut self.previous;
+        let key = (ctx.pair, index);
+        while p.constraints.get(p.cursor).is_some_and(|o| (o.pair, o.manifold) < key) {
+            p.cursor += 1;
+        }
+        let o = p.constraints.get(p.cursor)?;
+        let points = &self.points[start..];
+        if (o.pair, o.manifold) != key || !o.as_built || o.len as usize != points.len() || (o.normal - n).norm() > KEEP_EPS {
+            return None;
+        }
+        let same = |os: u32, ns: u32| {
+            let (a, b) = (&p.bodies[os as usize], &self.bodies[ns as usize]);
+            (os == 0) == (ns == 0) && a.inv_m == b.inv_m && a.inv_i == b.inv_i && a.dynamic == b.dynamic
+        };
+        if !same(o.s1, ctx.s1) || !same(o.s2, ctx.s2) {
+            return None;
+        }
+        let old = &p.points[o.start as usize..(o.start + o.len) as usize];
+        let moved = |a: &Point, b: &Point| {
+            a.manifold_point != b.manifold_point
+                || a.corner != b.corner
+                || (a.anchor1 - b.anchor1).norm() > KEEP_EPS
+                || (a.anchor2 - b.anchor2).norm() > KEEP_EPS
+        };
+        if points.iter().zip(old).any(|(a, b)| moved(a, b)) || touching(points) != touching(old) {
+            return None;
+        }
+        Some(p.cursor)
+    }
+
+    /// Takes the geometry of the last step's constraint `oi` for the points
+    /// from `start`; returns its normal and tangents and its patch.
+    pub(crate) fn keep(&mut self, oi: usize, start: usize) -> (Vec3, Vec3, Vec3, Patch) {
+        let o = &self.previous.constraints[oi];
+        let old = &self.previous.points[o.start as usize..(o.start + o.len) as usize];
+        for (p, q) in self.points[start..].iter_mut().zip(old) {
+            p.anchor1 = q.anchor1;
+            p.anchor2 = q.anchor2;
+            p.r1 = q.anchor1;
+            p.r2 = q.anchor2;
+            p.rn1 = q.rn1;
+            p.rn2 = q.rn2;
+            p.irn1 = q.irn1;
+            p.irn2 = q.irn2;
+            p.normal_mass = q.normal_mass;
+            p.base_separation = p.separation - o.normal.dot(&(q.anchor2 - q.anchor1));
+        }
+        (o.normal, o.t1, o.t2, Patch::with_geometry_of(&self.previous.patches[oi]))
+    }
+
+    /// Takes `J`, `K`, its factor and `Q` of block `g` from the last step's
+    /// block of the same upper body, if every face of it kept its geometry and
+    /// the rows are laid out alike; returns whether it did.
+    pub(crate) fn keep_block(&mut self, g: usize) -> bool {
+        let b = self.support.blocks[g];
+        let p = &self.previous;
+        let world = self.bodies[b.body as usize].body as usize;
+        let Some(&og) = p.block_of.get(world) else { return false };
+        let Some(o) = p.blocks.get(og as usize) else { return false };
+        let (f0, f1) = (b.faces.0 as usize, b.faces.1 as usize);
+        let (g0, g1) = (o.faces.0 as usize, o.faces.1 as usize);
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let (q0, q1) = (o.rows.0 as usize, o.rows.1 as usize);
+        if f1 - f0 != g1 - g0 || r1 - r0 != q1 - q0 {
+            return false;
+        }
+        let same_face = |k: usize| {
+            let ci = self.support.faces[f0 + k] as usize;
+            let (c, kept) = (&self.constraints[ci], p.kept.get(ci).copied().unwrap_or(NONE));
+            kept == p.faces[g0 + k] && p.constraints.get(kept as usize).is_some_and(|oc| oc.lower == c.lower)
+        };
+        if !(0..f1 - f0).all(same_face) {
+            return false;
+        }
+        let alike = (0..r1 - r0).all(|i| same_kind(self.support.rows[r0 + i].kind, p.rows[q0 + i].kind));
+        if !alike {
+            return false;
+        }
+        for i in 0..r1 - r0 {
+            let (old, new) = (p.rows[q0 + i], &mut self.support.rows[r0 + i]);
+            new.ju = old.ju;
+            new.jl = old.jl;
+            new.wu = old.wu;
+        }
+        let m2 = (r1 - r0) * (r1 - r0);
+        let (ok, nk) = (o.k as usize, b.k as usize);
+        if o.k_ready {
+            self.support.k[nk..nk + m2].copy_from_slice(&p.k[ok..ok + m2]);
+            self.support.factor[nk..nk + m2].copy_from_slice(&p.factor[ok..ok + m2]);
+        }
+        let blk = &mut self.support.blocks[g];
+        blk.q = o.q;
+        blk.k_ready = o.k_ready;
+        blk.dirty = false;
+        true
+    }
+}
+
+/// Which points of a manifold touch at the step start (see
+/// `friction::Patch::patch_of_touching`), as a bit mask.
+fn touching(points: &[Point]) -> u64 {
+    let nearest = points.iter().map(|p| p.separation).fold(f64::INFINITY, f64::min);
+    let reach = nearest.max(0.0) + TOUCH;
+    points.iter().take(64).enumerate().fold(0, |m, (k, p)| if p.separation <= reach { m | 1 << k } else { m })
+}
+
+/// Whether two rows constrain the same thing (normals of the points at the
+/// same place in their faces, which are alike).
+fn same_kind(a: RowKind, b: RowKind) -> bool {
+    matches!((a, b), (RowKind::Normal(_), RowKind::Normal(_))) || a == b
+}

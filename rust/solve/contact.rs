@@ -517,7 +517,7 @@ impl ContactSolver {
 }
 
 /// Arms across the normal and the effective mass of a point.
-fn normal_mass(p: &mut Point, a1: &SolverBody, a2: &SolverBody, n: &Vec3) {
+pub(crate) fn normal_mass(p: &mut Point, a1: &SolverBody, a2: &SolverBody, n: &Vec3) {
     p.rn1 = p.r1.cross(n);
     p.rn2 = p.r2.cross(n);
     p.irn1 = a1.inv_i * p.rn1;

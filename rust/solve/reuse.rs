@@ -217,3 +217,7 @@ fn touching(points: &[Point]) -> u64 {
 fn same_kind(a: RowKind, b: RowKind) -> bool {
     matches!((a, b), (RowKind::Normal(_), RowKind::Normal(_))) || a == b
 }
+
+#[cfg(test)]
+#[path = "reuse_tests.rs"]
+mod tests;

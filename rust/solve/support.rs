@@ -294,7 +294,12 @@ impl ContactSolver {
             for k in (start..end).rev() {
                 let body = self.support.blocks[k].body as usize;
                 if self.support.paid.get(body).copied() == Some(self.support.pass) {
-                    self.solve_block(k);
+                    // A body paid a reaction is solved again however small it
+                    // is: left within the residual, its change reached the
+                    // bodies on it as a residual of theirs, and a resting
+                    // pyramid kept re-solving such residuals of its own making
+                    // (153 000 block solves per 150 steps against 92 000).
+                    self.solve_block_within(k, 0.0);
                 }
             }
             for k in start..end {

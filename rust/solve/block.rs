@@ -173,6 +173,8 @@ pub struct Scratch {
     pub lambda: Vec<f64>,
     pub y: Vec<f64>,
     ky: Vec<f64>,
+    /// Per row opening a patch's friction rows: the inverse of their 3×3 `K`.
+    inv3: Vec<[f64; 6]>,
 }
 
 impl Scratch {
@@ -182,6 +184,8 @@ impl Scratch {
             v.truncate(m);
             v.resize(m, 0.0);
         }
+        self.inv3.truncate(m);
+        self.inv3.resize(m, [0.0; 6]);
     }
 }
 
@@ -378,7 +382,6 @@ impl ContactSolver {
                 return;
             }
         }
-        self.ensure_k(g);
         self.projected_gauss_seidel(g, sc);
     }
 
@@ -464,22 +467,41 @@ impl ContactSolver {
         let b = self.support.blocks[g];
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let m = r1 - r0;
-        let k = &self.support.k[b.k as usize..b.k as usize + m * m];
         let rows = &self.support.rows[r0..r1];
         let targets = &self.support.targets[r0..r1];
-        let (y, ky, r, lambda) = (&mut sc.y, &mut sc.ky, &sc.r, &sc.lambda);
+        // `K y` is `J` of the upper body's change (the lower bodies are held),
+        // kept as that change: a row's update costs six products, not `m`, and
+        // `K` itself is never formed (a tumbling pile's blocks of 28 rows spent
+        // a third of its step updating `K y`).
+        let (mut dv, mut dw) = (Vec3::zeros(), Vec3::zeros());
+        let kij = |i: usize, j: usize| rows[i].ju[0].dot(&rows[j].wu[0]) + rows[i].ju[1].dot(&rows[j].wu[1]);
+        let (y, diag, r, lambda, inv3) = (&mut sc.y, &mut sc.ky, &sc.r, &sc.lambda, &mut sc.inv3);
         y.iter_mut().for_each(|v| *v = 0.0);
-        ky.iter_mut().for_each(|v| *v = 0.0);
+        for (i, d) in diag.iter_mut().enumerate() {
+            *d = kij(i, i);
+        }
+        // The tangent pair and the twist (if any) of a patch: their 3×3 block.
+        let twist_at = |i: usize| i + 2 < m && rows[i + 2].kind == RowKind::Twist && rows[i + 2].face == rows[i].face;
+        for i in 0..m.saturating_sub(1) {
+            if rows[i].kind == RowKind::Tangent(0) {
+                let kk = |a: usize, b: usize| kij(i + a, i + b);
+                inv3[i] = if twist_at(i) {
+                    invert3([kk(0, 0), kk(0, 1), kk(0, 2), kk(1, 1), kk(1, 2), kk(2, 2)])
+                } else {
+                    invert3([kk(0, 0), kk(0, 1), 0.0, kk(1, 1), 0.0, 1.0])
+                };
+            }
+        }
         // Which patches stuck before this solve.
         let faces = &self.support.faces[b.faces.0 as usize..b.faces.1 as usize];
         let stuck: Vec<bool> = faces.iter().map(|&f| !self.patches[f as usize].sliding).collect();
         let held = |face: u32| faces.iter().position(|&f| f == face).is_some_and(|k| stuck[k]);
-        let add = |y: &mut [f64], ky: &mut [f64], i: usize, d: f64| {
+        let residual = |i: usize, dv: &Vec3, dw: &Vec3| r[i] - (rows[i].ju[0].dot(dv) + rows[i].ju[1].dot(dw));
+        let add = |y: &mut [f64], dv: &mut Vec3, dw: &mut Vec3, i: usize, d: f64| {
             if d != 0.0 {
                 y[i] += d;
-                for (j, kj) in ky.iter_mut().enumerate() {
-                    *kj += k[j * m + i] * d;
-                }
+                *dv += rows[i].wu[0] * d;
+                *dw += rows[i].wu[1] * d;
             }
         };
         for _ in 0..PGS_SWEEPS {
@@ -488,27 +510,22 @@ impl ContactSolver {
                 let face = rows[i].face;
                 let mut normal = 0.0;
                 while i < m && rows[i].face == face {
-                    let res = r[i] - ky[i];
-                    let kii = k[i * m + i];
+                    let res = residual(i, &dv, &dw);
+                    let kii = diag[i];
                     match (rows[i].kind, targets[i]) {
                         (RowKind::Normal(_), Target::Skip) => normal += lambda[i] + y[i],
                         (RowKind::Normal(_), Target::AtLeast(_)) => {
                             let l = lambda[i] + y[i];
                             let new = if kii > 0.0 { (l + res / kii).max(0.0) } else { l.max(0.0) };
-                            add(y, ky, i, new - l);
+                            add(y, &mut dv, &mut dw, i, new - l);
                             normal += new;
                         }
                         (RowKind::Tangent(0), Target::Friction(_)) if i + 1 < m => {
                             // The tangent pair and the twist (if any) together, on
                             // the patch's limit surface.
-                            let twist = i + 2 < m && rows[i + 2].kind == RowKind::Twist && rows[i + 2].face == face;
-                            let kk = |a: usize, b: usize| k[(i + a) * m + i + b];
-                            let inv = if twist {
-                                invert3([kk(0, 0), kk(0, 1), kk(0, 2), kk(1, 1), kk(1, 2), kk(2, 2)])
-                            } else {
-                                invert3([kk(0, 0), kk(0, 1), 0.0, kk(1, 1), 0.0, 1.0])
-                            };
-                            let res3 = [res, r[i + 1] - ky[i + 1], if twist { r[i + 2] - ky[i + 2] } else { 0.0 }];
+                            let twist = twist_at(i);
+                            let inv = inv3[i];
+                            let res3 = [res, residual(i + 1, &dv, &dw), if twist { residual(i + 2, &dv, &dw) } else { 0.0 }];
                             let d = mul3(&inv, res3);
                             let l = [lambda[i] + y[i], lambda[i + 1] + y[i + 1], if twist { lambda[i + 2] + y[i + 2] } else { 0.0 }];
                             let (patch, c) = (&mut self.patches[face as usize], &self.constraints[face as usize]);
@@ -521,17 +538,17 @@ impl ContactSolver {
                             let cand = [l[0] + d[0], l[1] + d[1]];
                             let (slip, spin) = if held(face) { ([0.0; 2], 0.0) } else { ([-res3[0], -res3[1]], -res3[2]) };
                             let (f, t) = patch.settle(c, cand, l[2] + d[2], slip, spin, normal);
-                            add(y, ky, i, f[0] - l[0]);
-                            add(y, ky, i + 1, f[1] - l[1]);
+                            add(y, &mut dv, &mut dw, i, f[0] - l[0]);
+                            add(y, &mut dv, &mut dw, i + 1, f[1] - l[1]);
                             if twist {
-                                add(y, ky, i + 2, t - l[2]);
+                                add(y, &mut dv, &mut dw, i + 2, t - l[2]);
                                 i += 1;
                             }
                             i += 1;
                         }
                         (kind, _) => {
                             if kii > 0.0 {
-                                add(y, ky, i, res / kii);
+                                add(y, &mut dv, &mut dw, i, res / kii);
                             }
                             if let RowKind::Normal(_) = kind {
                                 normal += lambda[i] + y[i];

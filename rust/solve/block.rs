@@ -172,7 +172,8 @@ pub struct Scratch {
     pub r: Vec<f64>,
     pub lambda: Vec<f64>,
     pub y: Vec<f64>,
-    ky: Vec<f64>,
+    /// Per row: its diagonal entry of `K`.
+    diag: Vec<f64>,
     /// Per row opening a patch's friction rows: the inverse of their 3×3 `K`.
     inv3: Vec<[f64; 6]>,
 }
@@ -180,7 +181,7 @@ pub struct Scratch {
 impl Scratch {
     /// `m` entries in each (their values are overwritten by each solve).
     fn reset(&mut self, m: usize) {
-        for v in [&mut self.r, &mut self.lambda, &mut self.y, &mut self.ky] {
+        for v in [&mut self.r, &mut self.lambda, &mut self.y, &mut self.diag] {
             v.truncate(m);
             v.resize(m, 0.0);
         }
@@ -475,7 +476,7 @@ impl ContactSolver {
         // a third of its step updating `K y`).
         let (mut dv, mut dw) = (Vec3::zeros(), Vec3::zeros());
         let kij = |i: usize, j: usize| rows[i].ju[0].dot(&rows[j].wu[0]) + rows[i].ju[1].dot(&rows[j].wu[1]);
-        let (y, diag, r, lambda, inv3) = (&mut sc.y, &mut sc.ky, &sc.r, &sc.lambda, &mut sc.inv3);
+        let (y, diag, r, lambda, inv3) = (&mut sc.y, &mut sc.diag, &sc.r, &sc.lambda, &mut sc.inv3);
         y.iter_mut().for_each(|v| *v = 0.0);
         for (i, d) in diag.iter_mut().enumerate() {
             *d = kij(i, i);

@@ -313,10 +313,13 @@ impl ContactSolver {
         }
         // The prepare pass (warm) may keep last step's geometry; an impact's
         // contact is computed afresh.
-        let kept = if warm { self.keepable(ctx, index, &n, start as usize) } else { None };
-        if warm {
+        let kept = if warm {
+            let kept = self.keepable(ctx, index, &n, start as usize);
             self.previous.kept.push(kept.map_or(super::reuse::NONE, |k| k as u32));
-        }
+            kept
+        } else {
+            None
+        };
         let (n, t1, t2, kept_patch) = match kept {
             Some(oi) => {
                 let (n, t1, t2, patch) = self.keep(oi, start as usize);
@@ -324,10 +327,9 @@ impl ContactSolver {
             }
             None => {
                 let t1 = orthonormal(&n);
-                for k in start as usize..self.points.len() {
-                    let mut p = self.points[k];
-                    self.masses(&mut p, ctx.s1 as usize, ctx.s2 as usize, &n);
-                    self.points[k] = p;
+                let (b1, b2) = (&self.bodies[ctx.s1 as usize], &self.bodies[ctx.s2 as usize]);
+                for p in &mut self.points[start as usize..] {
+                    normal_mass(p, b1, b2, &n);
                 }
                 (n, t1, n.cross(&t1), None)
             }
@@ -368,10 +370,6 @@ impl ContactSolver {
         }
         self.constraints.push(constraint);
         self.patches.push(patch);
-    }
-
-    fn masses(&self, p: &mut Point, s1: usize, s2: usize, n: &Vec3) {
-        normal_mass(p, &self.bodies[s1], &self.bodies[s2], n);
     }
 
     /// Arms and effective masses of one constraint's points at the current poses.
@@ -534,6 +532,11 @@ pub fn inertia_world(b: &Bodies, i: usize) -> Mat3 {
 
 /// `R I0⁻¹ Rᵀ` of body `i`.
 pub fn inv_inertia_world(b: &Bodies, i: usize) -> Mat3 {
-    let r = quat::to_matrix(&b.q(i));
+    inv_inertia_at(b, i, &b.q(i))
+}
+
+/// `R I0⁻¹ Rᵀ` of body `i` turned to orientation `q`.
+pub(crate) fn inv_inertia_at(b: &Bodies, i: usize, q: &Quat) -> Mat3 {
+    let r = quat::to_matrix(q);
     r * Mat3::from_diagonal(&Vec3::from(b.inv_inertia[i])) * r.transpose()
 }

@@ -27,6 +27,12 @@ pub(crate) const SLIP_EPS: f64 = 1e-3;
 /// far above the round-off of a face resting flat.
 const TOUCH: f64 = 1e-4;
 
+/// Separation (m) up to which a point of a manifold counts as touching, given
+/// the separation of its nearest point.
+pub(crate) fn touch_reach(nearest: f64) -> f64 {
+    nearest.max(0.0) + TOUCH
+}
+
 /// The friction of one manifold.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Patch {
@@ -130,7 +136,7 @@ impl Patch {
     fn patch_of_touching(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Vec3, Vec3) {
         let gap = Gap::new(bodies, c);
         let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
-        let reach = nearest.max(0.0) + TOUCH;
+        let reach = touch_reach(nearest);
         let touching = |p: &&Point| gap.separation(p) <= reach;
         let n = points.iter().filter(touching).count().max(1) as f64;
         let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;

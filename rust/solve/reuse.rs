@@ -19,16 +19,11 @@ use super::contact::{Constraint, ContactSolver, PairContext, Point};
 use super::friction::Patch;
 use super::solver_body::SolverBody;
 use crate::body::Bodies;
-use crate::math::{quat, Mat3, Quat, Vec3};
+use crate::math::{Mat3, Quat, Vec3};
 
-/// Displacement (m) and quaternion change below which geometry is kept: as
-/// `solver_body::MOVE_EPS`.
-const KEEP_EPS: f64 = 1e-6;
-
-/// How far (m) beyond the nearest point a point counts as touching, for the
-/// question whether a patch is still made of the same points: as
-/// `friction::TOUCH`.
-const TOUCH: f64 = 1e-4;
+/// Displacement (m) and quaternion change below which geometry is kept: the
+/// substeps' tolerance.
+const KEEP_EPS: f64 = super::solver_body::MOVE_EPS;
 
 /// The previous step's constraints and blocks, kept for their geometry.
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
@@ -99,8 +94,7 @@ impl ContactSolver {
         if (q - o[i]).norm() > KEEP_EPS {
             o[i] = q;
         }
-        let r = quat::to_matrix(&o[i]);
-        r * Mat3::from_diagonal(&Vec3::from(b.inv_inertia[i])) * r.transpose()
+        super::contact::inv_inertia_at(b, i, &o[i])
     }
 
     /// The last step's constraint of manifold `index` of the pair, if its
@@ -208,7 +202,7 @@ impl ContactSolver {
 /// `friction::Patch::patch_of_touching`), as a bit mask.
 fn touching(points: &[Point]) -> u64 {
     let nearest = points.iter().map(|p| p.separation).fold(f64::INFINITY, f64::min);
-    let reach = nearest.max(0.0) + TOUCH;
+    let reach = super::friction::touch_reach(nearest);
     points.iter().take(64).enumerate().fold(0, |m, (k, p)| if p.separation <= reach { m | 1 << k } else { m })
 }
 

@@ -175,7 +175,7 @@ impl Gap {
 /// resolves (the slop is 5 mm) and above what a body resting in a stack or a
 /// pyramid sags or creeps per substep, so at rest nothing is recomputed. A body
 /// moving faster than 1 µm per substep is refreshed every substep.
-const MOVE_EPS: f64 = 1e-6;
+pub(crate) const MOVE_EPS: f64 = 1e-6;
 
 impl ContactSolver {
     /// Copies velocities and pose changes of the solver bodies from the world,

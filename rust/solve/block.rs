@@ -47,6 +47,8 @@ pub struct Block {
     /// Solver index of the upper body, and its height in the support graph.
     pub body: u32,
     pub level: u32,
+    /// Its island (see [`super::quiet`]).
+    pub island: u32,
     /// Ranges in `Support::faces` and `Support::rows`; offset of `K` and its
     /// factor in `Support::k`, `Support::factor`.
     pub faces: (u32, u32),
@@ -305,12 +307,6 @@ impl ContactSolver {
     /// projected Gauss–Seidel. Applies the change to the upper body, adds it to
     /// the accumulated impulses and keeps it as debt for the lower bodies.
     pub(crate) fn solve_block(&mut self, g: usize) {
-        self.solve_block_within(g, self.support.residual);
-    }
-
-    /// [`Self::solve_block`], taking a block whose rows are within `tolerance`
-    /// (m/s) of their targets as solved.
-    pub(crate) fn solve_block_within(&mut self, g: usize, tolerance: f64) {
         let b = self.support.blocks[g];
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let mut sc = std::mem::take(&mut self.support.scratch);
@@ -328,8 +324,7 @@ impl ContactSolver {
             largest = largest.max(r.abs());
             sc.lambda[i] = row.lambda(&self.points, &self.patches);
         }
-        // At rest the warm start has already done it all: nothing to solve.
-        if largest <= tolerance {
+        if largest == 0.0 {
             self.support.scratch = sc;
             return;
         }

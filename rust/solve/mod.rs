@@ -11,6 +11,7 @@ pub mod impulse;
 pub mod islands;
 pub mod limit_surface;
 pub mod position;
+pub mod quiet;
 pub mod support;
 pub mod soft;
 pub mod solver_body;

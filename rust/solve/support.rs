@@ -69,10 +69,10 @@ pub struct Support {
     pub factor: Vec<f64>,
     /// Per row: what the pass asks of it.
     pub targets: Vec<Target>,
-    /// Largest row residual (m/s) of a block taken as solved already: what the
-    /// warm start leaves of a body at rest under its load (measured up to 1e-9
-    /// m/s of sideways slip in a 20-row pyramid). [`RESIDUAL`] of the velocity
-    /// gravity gives in a substep.
+    /// Largest row residual (m/s) of an island taken as solved already: what
+    /// the warm start leaves of bodies at rest under their load (see
+    /// [`super::quiet`]). [`RESIDUAL`] of the velocity gravity gives in a
+    /// substep.
     pub residual: f64,
     pub scratch: Scratch,
     /// Per row: impulse kept back for the lower body, and the impulse before
@@ -88,6 +88,12 @@ pub struct Support {
     /// Number of the current pass, and the blocks solved in it (first time).
     pub pass: u64,
     pub solved: Vec<u32>,
+    /// Number of islands of the blocks, and which of them this pass solves
+    /// (see [`super::quiet`]).
+    pub islands: usize,
+    pub active: Vec<bool>,
+    /// Per world body: the last pass that solved its island.
+    pub disturbed: Vec<u64>,
 }
 
 impl Support {
@@ -158,6 +164,7 @@ impl ContactSolver {
             self.support.blocks.push(Block { body, level: lvl, faces, ..Default::default() });
         }
         self.assemble_blocks(true);
+        self.group_blocks();
     }
 
     /// Which side of constraint `ci` is the lower body of a support contact (0:
@@ -276,8 +283,12 @@ impl ContactSolver {
         s.start_lambda.resize(s.rows.len(), 0.0);
         s.solved.clear();
         let n = s.blocks.len();
+        // See `super::quiet`: an island is solved whole or left as it is.
+        self.choose_islands();
         for k in 0..n {
-            self.solve_block(k);
+            if self.support.active[self.support.blocks[k].island as usize] {
+                self.solve_block(k);
+            }
         }
         // Top down a level at a time: every block of a level is solved on its
         // supports as the bottom-up sweep left them, then their debts are paid (a
@@ -294,12 +305,7 @@ impl ContactSolver {
             for k in (start..end).rev() {
                 let body = self.support.blocks[k].body as usize;
                 if self.support.paid.get(body).copied() == Some(self.support.pass) {
-                    // A body paid a reaction is solved again however small it
-                    // is: left within the residual, its change reached the
-                    // bodies on it as a residual of theirs, and a resting
-                    // pyramid kept re-solving such residuals of its own making
-                    // (153 000 block solves per 150 steps against 92 000).
-                    self.solve_block_within(k, 0.0);
+                    self.solve_block(k);
                 }
             }
             for k in start..end {

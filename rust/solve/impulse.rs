@@ -110,16 +110,17 @@ impl ContactSolver {
     /// the blocks, solved exactly and pushed out by the position pass, have none.
     pub fn solve_normal(&mut self, relax: bool) {
         let rule = self.rule(relax);
-        self.velocity_pass(&rule);
+        let changed = self.velocity_pass(&rule);
         // See `super::warm_guard`: a pass that ends with energy it may not have
         // added is done again without the warm start.
-        if !relax && self.gained_energy(&rule) {
+        if !relax && self.gained_energy(&rule, changed) {
             self.without_warm_start();
             self.velocity_pass(&rule);
         }
     }
 
-    fn velocity_pass(&mut self, rule: &Rule) {
+    /// One pass; whether it changed anything after the warm start.
+    fn velocity_pass(&mut self, rule: &Rule) -> bool {
         if !rule.relax {
             self.sweep_supports(rule);
         }
@@ -129,9 +130,8 @@ impl ContactSolver {
         }
         // See `super::release`. (The relax pass's excess is released after
         // the next warm start.)
-        if !rule.relax {
-            self.release_excess(rule);
-        }
+        let released = !rule.relax && self.release_excess(rule);
+        released || !self.ordinary.is_empty() || !self.support.solved.is_empty()
     }
 
     pub(crate) fn rule(&self, relax: bool) -> Rule {

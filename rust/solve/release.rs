@@ -24,15 +24,17 @@ impl ContactSolver {
     /// Without support blocks the contacts are plain Gauss–Seidel with a warm
     /// start (as in Box2D and Rapier), whose own pass takes any excess back:
     /// nothing to do.
-    pub(crate) fn release_excess(&mut self, rule: &Rule) {
+    /// Whether it released anything.
+    pub(crate) fn release_excess(&mut self, rule: &Rule) -> bool {
         if self.support.blocks.is_empty() {
-            return;
+            return false;
         }
         // What gravity gives in a substep is not an excess: contacts settling
         // into a stack leave that much while the sweeps converge, and taking
         // it back point by point tipped a 30-cube tower at dt = 1/3000 s.
         let tolerance = self.support.substep_gravity();
         let (cs, points, patches, bodies) = (&self.constraints, &mut self.points, &mut self.patches, &mut self.bodies);
+        let mut released = false;
         for (ci, c) in cs.iter().enumerate() {
             // Settled support contacts are solved exactly on a held body.
             if c.generalized || (c.lower != 0 && c.settled) {
@@ -55,6 +57,7 @@ impl ContactSolver {
                 after += p.normal_impulse;
             }
             if after < before {
+                released = true;
                 let f = &mut patches[ci];
                 let keep = if before > 0.0 { after / before } else { 0.0 };
                 let d = [f.impulse[0] * (keep - 1.0), f.impulse[1] * (keep - 1.0)];
@@ -66,5 +69,6 @@ impl ContactSolver {
             }
             pair.store(bodies, c);
         }
+        released
     }
 }

@@ -89,3 +89,29 @@ fn a_turned_body_gets_its_geometry_afresh() {
     assert!(touching.iter().all(|ci| !kept.contains(ci)), "the turned box's contacts were kept");
     assert!(kept.len() + touching.len() == s.constraints.len(), "the others were not");
 }
+
+#[test]
+fn a_kept_support_plan_is_the_plan_made_afresh() {
+    let mut w = pyramid();
+    w.step(120).unwrap();
+    w.step(1).unwrap();
+    let bodies = &w.bodies;
+    let s = &mut w.collision.as_mut().unwrap().solver;
+    assert!(s.plan_unchanged(), "a pyramid at rest keeps its plan");
+    let (blocks, faces, rows) = (s.support.blocks.clone(), s.support.faces.clone(), s.support.rows.clone());
+    let sides: Vec<(u8, u32)> = s.constraints.iter().map(|c| (c.lower, c.group)).collect();
+    let ordinary = s.ordinary.clone();
+    // Planned again with nothing to take from the step before.
+    s.previous.kept.clear();
+    s.plan_support(&crate::math::Vec3::new(0.0, 0.0, 1.0), 9.81, bodies);
+    assert_eq!(s.constraints.iter().map(|c| (c.lower, c.group)).collect::<Vec<_>>(), sides);
+    assert_eq!((&s.support.faces, &s.ordinary), (&faces, &ordinary));
+    assert_eq!(s.support.blocks.len(), blocks.len());
+    for (a, b) in s.support.blocks.iter().zip(&blocks) {
+        assert_eq!((a.body, a.level, a.faces, a.rows, a.island, a.q), (b.body, b.level, b.faces, b.rows, b.island, b.q));
+    }
+    assert_eq!(s.support.rows.len(), rows.len());
+    for (a, b) in s.support.rows.iter().zip(&rows) {
+        assert_eq!((a.ju, a.jl, a.wu, a.lower, a.face, a.kind), (b.ju, b.jl, b.wu, b.lower, b.face, b.kind));
+    }
+}

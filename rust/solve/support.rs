@@ -123,11 +123,15 @@ impl ContactSolver {
             self.ordinary.extend(0..self.constraints.len() as u32);
             return;
         }
-        let level = self.levels(up, |_| true);
         let speed = SETTLED * gravity / self.inv_h + super::impulse::REST_DEPTH * self.settings.slop * self.inv_h;
         for ci in 0..self.constraints.len() {
             self.constraints[ci].settled = self.settled(ci, b, speed);
         }
+        if self.plan_unchanged() {
+            self.restore_plan();
+            return;
+        }
+        let level = self.levels(up, |_| true);
         // Only an unsettled contact asks whether its lower body is held.
         let held = if self.constraints.iter().all(|c| c.settled) {
             Vec::new()
@@ -273,18 +277,21 @@ impl ContactSolver {
         }
         self.assemble_blocks(false);
         self.velocity_targets(rule);
+        self.support.pass += 1;
+        self.support.solved.clear();
+        // See `super::quiet`: an island is solved whole or left as it is.
+        self.choose_islands();
+        if !self.support.active.contains(&true) {
+            return;
+        }
         let s = &mut self.support;
         s.debt.clear();
         s.debt.resize(s.rows.len(), 0.0);
-        s.pass += 1;
         s.start_velocity.resize(self.bodies.len(), (Vec3::zeros(), Vec3::zeros()));
         s.touched.resize(self.bodies.len(), 0);
         s.paid.resize(self.bodies.len(), 0);
         s.start_lambda.resize(s.rows.len(), 0.0);
-        s.solved.clear();
         let n = s.blocks.len();
-        // See `super::quiet`: an island is solved whole or left as it is.
-        self.choose_islands();
         for k in 0..n {
             if self.support.active[self.support.blocks[k].island as usize] {
                 self.solve_block(k);

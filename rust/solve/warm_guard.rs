@@ -30,22 +30,22 @@ const SLACK: f64 = 0.1;
 /// Kinetic energy (J) beyond which the bodies are diverging, not colliding.
 const DIVERGING: f64 = 1e200;
 
-/// The solver bodies' velocities before the warm start, which group of bodies
-/// in contact each belongs to, and each group's kinetic energy then.
+/// The solver bodies' velocities before the warm start, and which group of
+/// bodies in contact each belongs to (found when a pass is checked).
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct WarmGuard {
     velocities: Vec<(Vec3, Vec3)>,
     group: Vec<u32>,
-    energy: Vec<f64>,
 }
 
-/// Kinetic energy of a solver body (J; 0 unless dynamic).
-fn kinetic(b: &SolverBody) -> f64 {
+/// Kinetic energy of a solver body at velocities `(v, w)` (J; 0 unless
+/// dynamic).
+fn kinetic(b: &SolverBody, (v, w): (Vec3, Vec3)) -> f64 {
     if !b.dynamic || b.inv_m <= 0.0 {
         return 0.0;
     }
-    let iw = b.inv_i.try_inverse().map_or(Vec3::zeros(), |i| i * b.w);
-    0.5 * (b.v.norm_squared() / b.inv_m + b.w.dot(&iw))
+    let iw = b.inv_i.try_inverse().map_or(Vec3::zeros(), |i| i * w);
+    0.5 * (v.norm_squared() / b.inv_m + w.dot(&iw))
 }
 
 /// The groups of dynamic solver bodies connected by contacts (union–find;
@@ -79,33 +79,30 @@ impl ContactSolver {
         if self.support.blocks.is_empty() || !self.gen.constraints.is_empty() {
             return;
         }
-        let group = groups(self);
-        let g = &mut self.guard;
-        g.velocities.extend(self.bodies.iter().map(|b| (b.v, b.w)));
-        g.energy.clear();
-        g.energy.resize(self.bodies.len(), 0.0);
-        for (b, &k) in self.bodies.iter().zip(&group) {
-            g.energy[k as usize] += kinetic(b);
-        }
-        g.group = group;
+        self.guard.velocities.extend(self.bodies.iter().map(|b| (b.v, b.w)));
     }
 
     /// Whether the velocity pass ended with more energy in some group of bodies
-    /// than it may add there.
-    pub(crate) fn gained_energy(&self, rule: &Rule) -> bool {
-        let g = &self.guard;
-        if g.velocities.len() != self.bodies.len() || g.velocities.is_empty() {
+    /// than it may add there. A pass that `changed` nothing after the warm
+    /// start (every island within its residual, no contact solved both ways or
+    /// released) is the warm start alone, within the residual of its targets:
+    /// one that pumped would have left residuals to solve.
+    pub(crate) fn gained_energy(&mut self, rule: &Rule, changed: bool) -> bool {
+        if !changed || self.guard.velocities.len() != self.bodies.len() || self.guard.velocities.is_empty() {
             return false;
         }
-        let mut now = vec![0.0; self.bodies.len()];
-        for (b, &k) in self.bodies.iter().zip(&g.group) {
-            now[k as usize] += kinetic(b);
+        self.guard.group = groups(self);
+        let g = &self.guard;
+        let (mut before, mut now) = (vec![0.0; self.bodies.len()], vec![0.0; self.bodies.len()]);
+        for ((b, &k), &start) in self.bodies.iter().zip(&g.group).zip(&g.velocities) {
+            before[k as usize] += kinetic(b, start);
+            now[k as usize] += kinetic(b, (b.v, b.w));
         }
         let allowed = self.push_out_energy(rule);
         // A diverging body is the step guard's to name (`world::guard`): a
         // pass done again would hand its velocity to what it touches first.
         (0..now.len()).any(|k| {
-            let (before, after) = (g.energy[k], now[k]);
+            let (before, after) = (before[k], now[k]);
             before < DIVERGING && after < DIVERGING && after > before * (1.0 + SLACK) + allowed[k]
         })
     }

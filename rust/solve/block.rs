@@ -63,6 +63,12 @@ pub struct Block {
     /// `Q = P⁻¹ M P⁻¹` with `P = Jᵀ W⁻¹ J`, when the rows hold all six of the
     /// upper body's velocities (`P` invertible): see [`min_norm`].
     pub q: Option<Matrix6<f64>>,
+    /// Smallest and largest effective separation of its points at the step
+    /// start (m), and the longest lever of its rows (m, at least 1): see
+    /// [`super::quiet`].
+    pub low: f64,
+    pub high: f64,
+    pub arm: f64,
 }
 
 /// What a row constrains.
@@ -562,6 +568,10 @@ impl ContactSolver {
     /// the excess (at most `cap` a pass), and its patches neither slide nor turn.
     pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64) {
         let b = self.support.blocks[g];
+        // No point of it can be deeper than the edge yet (see `super::quiet`).
+        if b.low - self.block_motion(g).1 >= -rest {
+            return;
+        }
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let mut push = false;
         let mut i = r0;

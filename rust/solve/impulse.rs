@@ -45,6 +45,10 @@ pub(crate) struct Rule {
 /// of its weight in extra friction over its first steps).
 pub(crate) const REST_DEPTH: f64 = 2e-4;
 
+/// The touching band's upper edge, in rest depths of effective separation
+/// (see [`Rule::bias`]): beyond it a gap is asked to close.
+pub(crate) const TOUCHING: f64 = 2.0;
+
 impl Rule {
     /// The separation the solver works with: the geometric one plus the rest
     /// depth (m).
@@ -68,7 +72,7 @@ impl Rule {
     /// Beyond the band the whole gap closes, to the rest depth.
     #[inline(always)]
     pub(crate) fn bias(&self, s: f64) -> f64 {
-        if s > 2.0 * self.rest {
+        if s > TOUCHING * self.rest {
             s * self.inv_h
         } else {
             0.0

@@ -16,8 +16,13 @@
 //! residual of its blocks exceeds the residual tolerance, or, if it was solved
 //! in the pass before, [`QUIET`] of it.
 
-use super::block::Target;
+use super::block::{RowKind, Target};
 use super::contact::ContactSolver;
+use super::impulse::{Rule, REST_DEPTH, TOUCHING};
+
+/// Relative growth of a lever allowed for between its bound, taken once a
+/// step, and the arms the substeps refresh.
+const ARM_SLACK: f64 = 1e-3;
 
 /// Fraction of the residual tolerance below which an island solved in the
 /// last pass is taken as settled: above the round-off of a warm start (1e-15
@@ -60,32 +65,99 @@ impl ContactSolver {
     }
 
     /// Decides which islands this pass solves (`Support::active`) from their
-    /// blocks' residuals after the warm start, and marks their bodies.
-    pub(crate) fn choose_islands(&mut self) {
-        let s = &self.support;
-        let (tol, last) = (s.residual, s.pass - 1);
-        let mut worst = vec![0.0f64; s.islands];
-        let mut was_active = vec![false; s.islands];
-        for g in 0..s.blocks.len() {
-            let b = s.blocks[g];
+    /// blocks' residuals after the warm start, marks their bodies, and sets
+    /// the targets of their blocks' rows.
+    ///
+    /// A block whose bodies move too little for any of its points to leave
+    /// the touching band since the step start, and too slowly for any row to
+    /// be [`QUIET`] of the tolerance from its zero target, is within it
+    /// without looking at its rows (see [`Self::block_motion`]): the targets
+    /// and residuals of every row of a resting pyramid cost a quarter of its
+    /// step.
+    pub(crate) fn choose_islands(&mut self, rule: &Rule) {
+        let (tol, last) = (self.support.residual, self.support.pass - 1);
+        let band = TOUCHING * REST_DEPTH * self.settings.slop;
+        let islands = self.support.islands;
+        let (mut worst, mut was_active) = (vec![0.0f64; islands], vec![false; islands]);
+        let mut targeted = vec![false; self.support.blocks.len()];
+        for g in 0..self.support.blocks.len() {
+            let b = self.support.blocks[g];
             let i = b.island as usize;
-            worst[i] = worst[i].max(self.block_residual(g));
+            let (speed, moved) = self.block_motion(g);
+            if speed <= QUIET * tol && b.high + moved <= band {
+                worst[i] = worst[i].max(speed);
+            } else {
+                self.block_targets(g, rule);
+                targeted[g] = true;
+                worst[i] = worst[i].max(self.block_residual(g));
+            }
             let world = self.bodies[b.body as usize].body as usize;
-            was_active[i] |= s.disturbed.get(world) == Some(&last);
+            was_active[i] |= self.support.disturbed.get(world) == Some(&last);
         }
         let active: Vec<bool> =
             worst.iter().zip(&was_active).map(|(&w, &was)| w > tol || (was && w > QUIET * tol)).collect();
-        let s = &mut self.support;
-        for b in &s.blocks {
-            if active[b.island as usize] {
-                let world = self.bodies[b.body as usize].body as usize;
-                if s.disturbed.len() <= world {
-                    s.disturbed.resize(world + 1, 0);
-                }
-                s.disturbed[world] = s.pass;
+        for g in 0..self.support.blocks.len() {
+            let b = self.support.blocks[g];
+            if !active[b.island as usize] {
+                continue;
             }
+            if !targeted[g] {
+                self.block_targets(g, rule);
+            }
+            let world = self.bodies[b.body as usize].body as usize;
+            let s = &mut self.support;
+            if s.disturbed.len() <= world {
+                s.disturbed.resize(world + 1, 0);
+            }
+            s.disturbed[world] = s.pass;
         }
-        s.active = active;
+        self.support.active = active;
+    }
+
+    /// Once a step (the plan made or taken back): each block's range of
+    /// effective separations at the step start and the longest lever of its
+    /// rows, for [`Self::block_motion`].
+    pub(crate) fn bound_blocks(&mut self) {
+        let rest = REST_DEPTH * self.settings.slop;
+        let s = &mut self.support;
+        for b in &mut s.blocks {
+            let (mut low, mut high, mut arm) = (f64::INFINITY, f64::NEG_INFINITY, 1.0f64);
+            for r in &s.rows[b.rows.0 as usize..b.rows.1 as usize] {
+                arm = arm.max(r.ju[1].norm()).max(r.jl[1].norm());
+                if let RowKind::Normal(pi) = r.kind {
+                    let p = &self.points[pi as usize];
+                    let sep = p.separation + rest;
+                    (low, high) = (low.min(sep), high.max(sep));
+                    arm = arm.max(p.anchor1.norm()).max(p.anchor2.norm());
+                }
+            }
+            // The arms follow the bodies within the kept geometry's tolerance.
+            (b.low, b.high, b.arm) = (low, high, arm * (1.0 + ARM_SLACK) + super::solver_body::MOVE_EPS);
+        }
+    }
+
+    /// Bounds for block `g` now: how fast any of its rows can move (m/s; a
+    /// normal or friction row is `n·Δv` plus a lever's worth of `ω`, a twist
+    /// row `n·Δω`), and how far any of its points can have moved along its
+    /// normal since the step start (m; a turn by `θ` moves a point at arm `r`
+    /// by `2 r sin(θ/2)`, which is `2 r |q⃗|` for the turn's quaternion), for
+    /// the upper body and the fastest of the lower ones together.
+    pub(crate) fn block_motion(&self, g: usize) -> (f64, f64) {
+        let s = &self.support;
+        let b = s.blocks[g];
+        let motion = |k: usize| {
+            let sb = &self.bodies[k];
+            (sb.v.norm() + b.arm * sb.w.norm(), sb.dp.norm() + 2.0 * b.arm * sb.dq.vector().norm())
+        };
+        let (mut speed, mut moved) = (0.0f64, 0.0f64);
+        for &ci in &s.faces[b.faces.0 as usize..b.faces.1 as usize] {
+            let c = &self.constraints[ci as usize];
+            let lower = if c.lower == 1 { c.s1 } else { c.s2 };
+            let (v, d) = motion(lower as usize);
+            (speed, moved) = (speed.max(v), moved.max(d));
+        }
+        let (v, d) = motion(b.body as usize);
+        (v + speed, d + moved)
     }
 
     /// Largest distance (m/s) of block `g`'s rows from their targets.
@@ -102,5 +174,50 @@ impl ContactSolver {
             let lo = &self.bodies[row.lower as usize];
             worst.max((t.value() - row.velocity(&nu, &(lo.v, lo.w))).abs())
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::body::Shape;
+    use crate::solve::block::RowKind;
+    use crate::solve::solver_body::Gap;
+    use crate::world::{BodySpec, Scene, Settings};
+
+    /// The bounds of `block_motion` hold every row's speed and every point's
+    /// separation, for a resting stack and for one whose top box is turned
+    /// (slowly enough for its contacts to stay support contacts).
+    #[test]
+    fn block_bounds_hold_the_rows_and_points() {
+        for throw in [0.0, 0.05] {
+            let mut scene = Scene::new([0.0, 0.0, -9.81]).unwrap();
+            let ground = Shape::plane([0.0, 0.0, 1.0], 0.0).unwrap();
+            scene.add_body(BodySpec { shape: Some(ground), fixed: true, ..Default::default() }).unwrap();
+            for (x, z) in [(-0.51, 0.5), (0.51, 0.5), (0.0, 1.5)] {
+                let cube = Some(Shape::cuboid([0.5; 3]).unwrap());
+                scene.add_body(BodySpec { shape: cube, density: Some(1000.0), position: [x, 0.0, z], ..Default::default() }).unwrap();
+            }
+            let mut settings = Settings::new(1.0 / 60.0);
+            settings.sleep.enabled = false;
+            let mut w = scene.build(&settings).unwrap();
+            w.step(60).unwrap();
+            w.bodies.angular_velocity[3] = [throw, -throw, 2.0 * throw];
+            w.step(1).unwrap();
+            let s = &w.collision.as_ref().unwrap().solver;
+            let rest = crate::solve::impulse::REST_DEPTH * s.settings.slop;
+            assert_eq!(s.support.blocks.len(), 3);
+            for g in 0..s.support.blocks.len() {
+                let b = s.support.blocks[g];
+                let (speed, moved) = s.block_motion(g);
+                for r in &s.support.rows[b.rows.0 as usize..b.rows.1 as usize] {
+                    let (u, l) = (&s.bodies[b.body as usize], &s.bodies[r.lower as usize]);
+                    assert!(r.velocity(&(u.v, u.w), &(l.v, l.w)).abs() <= speed * (1.0 + 1e-12));
+                    if let RowKind::Normal(pi) = r.kind {
+                        let sep = Gap::new(&s.bodies, &s.constraints[r.face as usize]).separation(&s.points[pi as usize]) + rest;
+                        assert!(sep >= b.low - moved - 1e-15 && sep <= b.high + moved + 1e-15, "{sep} {b:?} {moved}");
+                    }
+                }
+            }
+        }
     }
 }

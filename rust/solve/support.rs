@@ -129,6 +129,7 @@ impl ContactSolver {
         }
         if self.plan_unchanged() {
             self.restore_plan();
+            self.bound_blocks();
             return;
         }
         let level = self.levels(up, |_| true);
@@ -169,6 +170,7 @@ impl ContactSolver {
         }
         self.assemble_blocks(true);
         self.group_blocks();
+        self.bound_blocks();
     }
 
     /// Which side of constraint `ci` is the lower body of a support contact (0:
@@ -276,11 +278,12 @@ impl ContactSolver {
             return;
         }
         self.assemble_blocks(false);
-        self.velocity_targets(rule);
+        let rows = self.support.rows.len();
+        self.support.targets.resize(rows, Target::Skip);
         self.support.pass += 1;
         self.support.solved.clear();
         // See `super::quiet`: an island is solved whole or left as it is.
-        self.choose_islands();
+        self.choose_islands(rule);
         if !self.support.active.contains(&true) {
             return;
         }
@@ -338,17 +341,17 @@ impl ContactSolver {
         }
     }
 
-    /// Targets of every row for a velocity pass: a gap may close within the
-    /// substep; friction and twist stop the slip.
-    fn velocity_targets(&mut self, rule: &Rule) {
+    /// Targets of block `g`'s rows for a velocity pass: a gap may close within
+    /// the substep; friction and twist stop the slip.
+    pub(crate) fn block_targets(&mut self, g: usize, rule: &Rule) {
         let s = &mut self.support;
-        s.targets.clear();
-        let mut i = 0;
-        while i < s.rows.len() {
+        let (r0, r1) = (s.blocks[g].rows.0 as usize, s.blocks[g].rows.1 as usize);
+        let mut i = r0;
+        while i < r1 {
             let face = s.rows[i].face;
             let gap = Gap::new(&self.bodies, &self.constraints[face as usize]);
-            while i < s.rows.len() && s.rows[i].face == face {
-                s.targets.push(match s.rows[i].kind {
+            while i < r1 && s.rows[i].face == face {
+                s.targets[i] = match s.rows[i].kind {
                     RowKind::Normal(pi) => {
                         let sep = rule.effective(gap.separation(&self.points[pi as usize]));
                         if rule.relax && sep > 0.0 {
@@ -360,7 +363,7 @@ impl ContactSolver {
                         }
                     }
                     _ => Target::Friction(0.0),
-                });
+                };
                 i += 1;
             }
         }

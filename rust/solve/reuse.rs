@@ -47,6 +47,18 @@ pub struct Previous {
     pub orientation: Vec<Quat>,
 }
 
+impl Previous {
+    /// Exchanges the support plan (blocks, faces, rows, `K` and factors) with
+    /// `s`'s.
+    fn swap_plan(&mut self, s: &mut super::support::Support) {
+        std::mem::swap(&mut self.blocks, &mut s.blocks);
+        std::mem::swap(&mut self.faces, &mut s.faces);
+        std::mem::swap(&mut self.rows, &mut s.rows);
+        std::mem::swap(&mut self.k, &mut s.k);
+        std::mem::swap(&mut self.factor, &mut s.factor);
+    }
+}
+
 /// Marks a constraint whose geometry was computed afresh.
 pub const NONE: u32 = u32::MAX;
 
@@ -64,12 +76,7 @@ impl ContactSolver {
         std::mem::swap(&mut p.points, &mut self.points);
         std::mem::swap(&mut p.patches, &mut self.patches);
         std::mem::swap(&mut p.bodies, &mut self.bodies);
-        let s = &mut self.support;
-        std::mem::swap(&mut p.blocks, &mut s.blocks);
-        std::mem::swap(&mut p.faces, &mut s.faces);
-        std::mem::swap(&mut p.rows, &mut s.rows);
-        std::mem::swap(&mut p.k, &mut s.k);
-        std::mem::swap(&mut p.factor, &mut s.factor);
+        p.swap_plan(&mut self.support);
         p.block_of.resize(self.slot.len(), NONE);
         for (g, b) in p.blocks.iter().enumerate() {
             if let Some(e) = p.bodies.get(b.body as usize).and_then(|sb| p.block_of.get_mut(sb.body as usize)) {
@@ -222,12 +229,7 @@ impl ContactSolver {
             c.lower = o.lower;
             c.group = o.group;
         }
-        let s = &mut self.support;
-        std::mem::swap(&mut p.blocks, &mut s.blocks);
-        std::mem::swap(&mut p.faces, &mut s.faces);
-        std::mem::swap(&mut p.rows, &mut s.rows);
-        std::mem::swap(&mut p.k, &mut s.k);
-        std::mem::swap(&mut p.factor, &mut s.factor);
+        p.swap_plan(&mut self.support);
         let lowers = self.constraints.iter().enumerate().filter(|(_, c)| c.lower == 0);
         self.ordinary.extend(lowers.map(|(ci, _)| ci as u32));
     }

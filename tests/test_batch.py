@@ -212,6 +212,10 @@ def test_copies_far_past_the_failing_step_are_rewound_too() -> None:
 
 SIGINT_SCRIPT = """
 import sys
+import signal
+# Ctrl-C raises KeyboardInterrupt as in a terminal, whatever the parent left
+# (Python keeps SIGINT ignored if it starts ignored, as under `nohup ... &`).
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import numpy as np
 sys.path.insert(0, {tests!r})
 from test_batch import pile, DT

@@ -99,6 +99,10 @@ def test_failure_after_a_checkpoint_and_many_calls_with_writes_is_undone_exactly
 
 SIGINT_SCRIPT = """
 import sys, time
+import signal
+# Ctrl-C raises KeyboardInterrupt as in a terminal, whatever the parent left
+# (Python keeps SIGINT ignored if it starts ignored, as under `nohup ... &`).
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import numpy as np
 import rigidrs as rr
 sys.path.insert(0, {tests!r})

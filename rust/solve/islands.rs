@@ -38,7 +38,8 @@ pub struct Islands {
     pub island: Vec<u32>,
 }
 
-fn find(parent: &mut [u32], mut i: u32) -> u32 {
+/// The root of `i` in a union–find forest, halving the path on the way.
+pub(crate) fn find(parent: &mut [u32], mut i: u32) -> u32 {
     while parent[i as usize] != i {
         let p = parent[parent[i as usize] as usize];
         parent[i as usize] = p;

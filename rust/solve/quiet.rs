@@ -19,6 +19,7 @@
 use super::block::{RowKind, Target};
 use super::contact::ContactSolver;
 use super::impulse::{Rule, REST_DEPTH, TOUCHING};
+use super::islands::find;
 
 /// Relative growth of a lever allowed for between its bound, taken once a
 /// step, and the arms the substeps refresh.
@@ -34,19 +35,11 @@ impl ContactSolver {
     pub(crate) fn group_blocks(&mut self) {
         let n = self.bodies.len();
         let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn root(parent: &mut [u32], mut k: u32) -> u32 {
-            while parent[k as usize] != k {
-                let up = parent[parent[k as usize] as usize];
-                parent[k as usize] = up;
-                k = up;
-            }
-            k
-        }
         let s = &self.support;
         for b in &s.blocks {
             for r in &s.rows[b.rows.0 as usize..b.rows.1 as usize] {
                 if self.bodies.get(r.lower as usize).is_some_and(|l| l.dynamic) {
-                    let (x, y) = (root(&mut parent, b.body), root(&mut parent, r.lower));
+                    let (x, y) = (find(&mut parent, b.body), find(&mut parent, r.lower));
                     parent[x.max(y) as usize] = x.min(y);
                 }
             }
@@ -54,7 +47,7 @@ impl ContactSolver {
         let mut id = vec![u32::MAX; n];
         let mut count = 0;
         for g in 0..self.support.blocks.len() {
-            let top = root(&mut parent, self.support.blocks[g].body) as usize;
+            let top = find(&mut parent, self.support.blocks[g].body) as usize;
             if id[top] == u32::MAX {
                 id[top] = count;
                 count += 1;

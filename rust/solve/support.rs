@@ -129,9 +129,15 @@ impl ContactSolver {
         }
         if self.plan_unchanged() {
             self.restore_plan();
-            self.bound_blocks();
-            return;
+        } else {
+            self.plan_afresh(up);
         }
+        self.bound_blocks();
+    }
+
+    /// The support contacts, their lower sides and the blocks, found from the
+    /// support graph.
+    fn plan_afresh(&mut self, up: &Vec3) {
         let level = self.levels(up, |_| true);
         // Only an unsettled contact asks whether its lower body is held.
         let held = if self.constraints.iter().all(|c| c.settled) {
@@ -170,7 +176,6 @@ impl ContactSolver {
         }
         self.assemble_blocks(true);
         self.group_blocks();
-        self.bound_blocks();
     }
 
     /// Which side of constraint `ci` is the lower body of a support contact (0:

@@ -18,6 +18,7 @@
 
 use super::contact::ContactSolver;
 use super::impulse::Rule;
+use super::islands::find;
 use super::solver_body::{Gap, SolverBody};
 use crate::math::Vec3;
 
@@ -54,13 +55,6 @@ fn kinetic(b: &SolverBody, (v, w): (Vec3, Vec3)) -> f64 {
 fn groups(solver: &ContactSolver) -> Vec<u32> {
     let n = solver.bodies.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut k: u32) -> u32 {
-        while parent[k as usize] != k {
-            parent[k as usize] = parent[parent[k as usize] as usize];
-            k = parent[k as usize];
-        }
-        k
-    }
     for c in &solver.constraints {
         let (a, b) = (c.s1 as usize, c.s2 as usize);
         if a < n && b < n && solver.bodies[a].dynamic && solver.bodies[b].dynamic {

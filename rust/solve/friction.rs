@@ -105,11 +105,11 @@ impl Patch {
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);
-            f.irt1[k] = a1.inv_i * f.rt1[k];
-            f.irt2[k] = a2.inv_i * f.rt2[k];
+            f.irt1[k] = a1.inv_i_mul(&f.rt1[k]);
+            f.irt2[k] = a2.inv_i_mul(&f.rt2[k]);
         }
-        f.in1 = a1.inv_i * c.normal;
-        f.in2 = a2.inv_i * c.normal;
+        f.in1 = a1.inv_i_mul(&c.normal);
+        f.in2 = a2.inv_i_mul(&c.normal);
         let m = a1.inv_m + a2.inv_m;
         let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
         let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));

@@ -18,7 +18,7 @@
 
 use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
 
-use super::contact::{inv_inertia_world, Constraint, ContactSolver};
+use super::contact::{Constraint, ContactSolver};
 use super::friction::Patch;
 use super::solver_body::Pair;
 use crate::collide::narrow_phase::Manifold;
@@ -203,7 +203,7 @@ impl ContactSolver {
             sb.dp += sb.v * (sign * t);
             sb.dq = b.q(i) * q_before.conjugate() * sb.dq;
             sb.w = Vec3::from(b.angular_velocity[i]);
-            sb.inv_i = inv_inertia_world(b, i);
+            sb.turn_inertia(b, i);
         }
     }
 }

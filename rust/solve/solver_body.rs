@@ -17,6 +17,10 @@ pub struct SolverBody {
     pub dq: Quat,
     pub inv_m: f64,
     pub inv_i: Mat3,
+    /// The inverse inertia is `iso · 1` whatever the body's orientation (a
+    /// uniform ball, a cube; fixed bodies, at 0): `inv_i` is kept exactly that
+    /// and products with it are scalings (see [`SolverBody::inv_i_mul`]).
+    pub iso: Option<f64>,
     /// Index in the world's bodies, and whether its velocities are written back.
     pub body: u32,
     pub dynamic: bool,
@@ -32,6 +36,25 @@ pub struct SolverBody {
     pub pushed: bool,
 }
 
+impl SolverBody {
+    /// `I⁻¹ v` (world frame).
+    #[inline(always)]
+    pub fn inv_i_mul(&self, v: &Vec3) -> Vec3 {
+        match self.iso {
+            Some(s) => v * s,
+            None => self.inv_i * v,
+        }
+    }
+
+    /// Brings `inv_i` to world body `i`'s current orientation (nothing to do
+    /// for an isotropic one).
+    pub fn turn_inertia(&mut self, b: &Bodies, i: usize) {
+        if self.dynamic && self.iso.is_none() {
+            self.inv_i = inv_inertia_world(b, i);
+        }
+    }
+}
+
 impl Default for SolverBody {
     fn default() -> Self {
         Self {
@@ -41,6 +64,7 @@ impl Default for SolverBody {
             dq: Quat::identity(),
             inv_m: 0.0,
             inv_i: Mat3::zeros(),
+            iso: Some(0.0),
             body: u32::MAX,
             dynamic: false,
             round: false,
@@ -201,9 +225,7 @@ impl ContactSolver {
             if s.moved {
                 s.dp_ref = s.dp;
                 s.dq_ref = s.dq;
-                if s.dynamic {
-                    s.inv_i = inv_inertia_world(b, i);
-                }
+                s.turn_inertia(b, i);
                 any = true;
             }
         }
@@ -237,6 +259,6 @@ impl ContactSolver {
         let sb = &mut self.bodies[s];
         sb.dp += dx;
         sb.dq = turn * sb.dq;
-        sb.inv_i = inv_inertia_world(b, i);
+        sb.turn_inertia(b, i);
     }
 }

@@ -184,12 +184,14 @@ pub struct Scratch {
     diag: Vec<f64>,
     /// Per row opening a patch's friction rows: the inverse of their 3×3 `K`.
     inv3: Vec<[f64; 6]>,
+    /// `y` before a projected Gauss–Seidel sweep.
+    before: Vec<f64>,
 }
 
 impl Scratch {
     /// `m` entries in each (their values are overwritten by each solve).
     fn reset(&mut self, m: usize) {
-        for v in [&mut self.r, &mut self.lambda, &mut self.y, &mut self.diag] {
+        for v in [&mut self.r, &mut self.lambda, &mut self.y, &mut self.diag, &mut self.before] {
             v.truncate(m);
             v.resize(m, 0.0);
         }
@@ -477,7 +479,10 @@ impl ContactSolver {
         // a third of its step updating `K y`).
         let (mut dv, mut dw) = (Vec3::zeros(), Vec3::zeros());
         let kij = |i: usize, j: usize| rows[i].ju[0].dot(&rows[j].wu[0]) + rows[i].ju[1].dot(&rows[j].wu[1]);
-        let (y, diag, r, lambda, inv3) = (&mut sc.y, &mut sc.diag, &sc.r, &sc.lambda, &mut sc.inv3);
+        // Every slice cut to `m` rows: indices below `m` then need no checks.
+        let (y, diag, r) = (&mut sc.y[..m], &mut sc.diag[..m], &sc.r[..m]);
+        let (lambda, inv3, before) = (&sc.lambda[..m], &mut sc.inv3[..m], &mut sc.before[..m]);
+
         y.iter_mut().for_each(|v| *v = 0.0);
         for (i, d) in diag.iter_mut().enumerate() {
             *d = kij(i, i);
@@ -507,6 +512,7 @@ impl ContactSolver {
             }
         };
         for _ in 0..PGS_SWEEPS {
+            before.copy_from_slice(y);
             let mut i = 0;
             while i < m {
                 let face = rows[i].face;
@@ -559,6 +565,14 @@ impl ContactSolver {
                     }
                     i += 1;
                 }
+            }
+            // A sweep that changed no impulse has converged: the sweeps left
+            // would repeat it. (Stopping once the changes were below the
+            // residual taken as solved, 1e-6 g h, let a box on a 40° incline
+            // slide 3–4 % fast: a sliding patch's Coulomb force follows its
+            // slip, which the later sweeps still correct.)
+            if y == before {
+                break;
             }
         }
     }

@@ -13,9 +13,11 @@
 //! Contacts that carry weight are solved in the support sweeps (see
 //! [`super::support`]) and are rigid: each sweep solves a column exactly, so a
 //! resting contact needs no spring to be stable and does not sag by its load.
-//! Contacts solved both ways in one Gauss–Seidel pass keep the soft step
-//! (`j = −(1/K)·s_m·(v_n + bias) − s_i·λ`, Box2D v3), whose leak `s_i·λ` keeps an
-//! unconverged sweep from overshooting.
+//! Contacts solved both ways in one Gauss–Seidel pass are rigid in velocity
+//! too (`j = −(1/K)·(v_n + bias)`), only their push-out softened by the mass
+//! scale `s_m`: Box2D v3's full soft step (`−(1/K)·s_m·(v_n + bias) − s_i·λ`)
+//! brings a ball pit to rest (median speed 1e-7 m/s against 5e-3 here) but
+//! sinks a pile by its load (2.9 mm six balls deep; the bar is 1 mm).
 
 use super::contact::{Constraint, ContactSolver, Point};
 use super::soft::Softness;

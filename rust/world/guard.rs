@@ -42,6 +42,8 @@ pub struct Watch {
     /// Re-running a runaway: the energy budget before the step (a stage that
     /// ends over it is the culprit).
     pub budget: Option<Budget>,
+    /// Per body: its largest velocity component at the step start (m/s).
+    pub start_speed: Vec<f64>,
 }
 
 /// One `step` call since the checkpoint: the inputs the user wrote before it
@@ -372,8 +374,17 @@ impl World {
         let particles: Vec<usize> = self.particles().map_or(Vec::new(), |p| {
             (0..p.len()).filter(|&i| bad3(&p.position[i]) || bad3(&p.velocity[i])).collect()
         });
-        let first = validate::check(&self.bodies)
-            .err()
+        // A NaN spreads through contacts within a stage: of the bodies it
+        // reached, the one that was fastest at the step start is the one that
+        // ran away (the lowest-numbered was named before, a neighbour it hit).
+        let start = self.watch.as_ref().map_or(&[][..], |w| &w.start_speed[..]);
+        let runaway = bodies.iter().copied().max_by(|&i, &j| {
+            let (a, b) = (start.get(i).copied().unwrap_or(0.0), start.get(j).copied().unwrap_or(0.0));
+            a.total_cmp(&b).then(j.cmp(&i))
+        });
+        let first = runaway
+            .and_then(|i| validate::check_body(&self.bodies, i).err())
+            .or_else(|| validate::check(&self.bodies).err())
             .or_else(|| self.check_particles().err())
             .map_or_else(|| "no body or particle".to_string(), |e| e.message);
         let list = |what: &str, v: &[usize]| {
@@ -506,7 +517,10 @@ impl World {
     /// and the body or particle it left not finite.
     fn diagnose(&self, budget: Option<Budget>) -> (&'static str, String) {
         let mut probe = self.clone();
-        probe.watch = Some(Watch { budget, ..Watch::default() });
+        // Largest component, not the norm: a runaway's norm overflows.
+        let speed = |v: &[f64; 3]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let start_speed = probe.bodies.linear_velocity.iter().map(speed).collect();
+        probe.watch = Some(Watch { budget, start_speed, ..Watch::default() });
         probe.profile.enabled = false;
         let src = probe.kick_sources();
         let panicked = catch_unwind(AssertUnwindSafe(|| probe.one_step(&src))).is_err();

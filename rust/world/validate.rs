@@ -18,20 +18,23 @@ fn finite3(b: usize, field: &str, v: &[f64; 3]) -> Result<()> {
 
 /// Checks every body without changing anything.
 pub fn check(bodies: &Bodies) -> Result<()> {
-    for i in 0..bodies.len() {
-        finite3(i, "position", &bodies.position[i])?;
-        finite3(i, "linear_velocity", &bodies.linear_velocity[i])?;
-        finite3(i, "angular_velocity", &bodies.angular_velocity[i])?;
-        finite3(i, "force", &bodies.force[i])?;
-        finite3(i, "torque", &bodies.torque[i])?;
-        let q = bodies.orientation[i];
-        let n2 = q.iter().map(|x| x * x).sum::<f64>();
-        if !((n2 - 1.0).abs() <= 2.0 * UNIT_TOL) {
-            return Err(Error::state(format!(
-                "body {i}: orientation {q:?} is not a unit quaternion (norm {}); write a normalised (x, y, z, w)",
-                n2.sqrt()
-            )));
-        }
+    (0..bodies.len()).try_for_each(|i| check_body(bodies, i))
+}
+
+/// Checks body `i` (an index below `bodies.len()`).
+pub fn check_body(bodies: &Bodies, i: usize) -> Result<()> {
+    finite3(i, "position", &bodies.position[i])?;
+    finite3(i, "linear_velocity", &bodies.linear_velocity[i])?;
+    finite3(i, "angular_velocity", &bodies.angular_velocity[i])?;
+    finite3(i, "force", &bodies.force[i])?;
+    finite3(i, "torque", &bodies.torque[i])?;
+    let q = bodies.orientation[i];
+    let n2 = q.iter().map(|x| x * x).sum::<f64>();
+    if !((n2 - 1.0).abs() <= 2.0 * UNIT_TOL) {
+        return Err(Error::state(format!(
+            "body {i}: orientation {q:?} is not a unit quaternion (norm {}); write a normalised (x, y, z, w)",
+            n2.sqrt()
+        )));
     }
     Ok(())
 }

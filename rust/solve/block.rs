@@ -482,7 +482,6 @@ impl ContactSolver {
         // Every slice cut to `m` rows: indices below `m` then need no checks.
         let (y, diag, r) = (&mut sc.y[..m], &mut sc.diag[..m], &sc.r[..m]);
         let (lambda, inv3, before) = (&sc.lambda[..m], &mut sc.inv3[..m], &mut sc.before[..m]);
-
         y.iter_mut().for_each(|v| *v = 0.0);
         for (i, d) in diag.iter_mut().enumerate() {
             *d = kij(i, i);

@@ -93,8 +93,14 @@ impl Rule {
     /// out in the first pass: 0 unless it penetrates.
     #[inline(always)]
     pub(crate) fn push_out_speed(&self, s: f64) -> f64 {
+        self.push_at(&self.soft, s)
+    }
+
+    /// The push-out speed (m/s) of soft step `soft` at separation `s`.
+    #[inline(always)]
+    fn push_at(&self, soft: &Softness, s: f64) -> f64 {
         if s < 0.0 {
-            (-self.soft.bias_rate * s).min(self.max_push)
+            (-soft.bias_rate * s).min(self.max_push)
         } else {
             0.0
         }
@@ -117,7 +123,7 @@ impl Rule {
     #[inline(always)]
     pub(crate) fn between_moving(&self, s: f64, vn: f64, p: &Point) -> f64 {
         if s <= 0.0 && !self.relax {
-            let push = (-self.pair.bias_rate * s).min(self.max_push);
+            let push = self.push_at(&self.pair, s);
             -p.normal_mass * self.pair.mass_scale * (vn - push) - self.pair.impulse_scale * p.normal_impulse
         } else {
             self.both_ways(s, vn, p)

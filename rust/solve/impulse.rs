@@ -18,9 +18,10 @@
 //! the mass scale `s_m`). Between two moving bodies a penetrating point takes
 //! Box2D v3's soft step (`−(1/K)·s_m·(v_n − push) − s_i·λ`) at a third of
 //! the substep rate: its leak `s_i·λ` is what brings a ball pit to rest (see
-//! [`Rule::between_moving`]).
+//! [`Rule::law`]).
 
 use super::contact::{Constraint, ContactSolver, Point};
+use super::small_lcp::{small_lcp, MAX_POINTS};
 use super::soft::Softness;
 use super::solver_body::{Gap, Pair, SolverBody};
 
@@ -32,7 +33,7 @@ const FRESH_SWEEPS: u32 = 4;
 pub(crate) struct Rule {
     soft: Softness,
     /// The soft step of a point between two moving bodies (see
-    /// [`Rule::between_moving`]).
+    /// [`Rule::law`]).
     pair: Softness,
     max_push: f64,
     inv_h: f64,
@@ -52,7 +53,7 @@ pub(crate) struct Rule {
 pub(crate) const REST_DEPTH: f64 = 2e-4;
 
 /// Natural frequency of the soft step between two moving bodies, as a
-/// fraction of the substep rate (see [`Rule::between_moving`]).
+/// fraction of the substep rate (see [`Rule::law`]).
 const PAIR_RATE: f64 = 1.0 / 3.0;
 
 /// The touching band's upper edge, in rest depths of effective separation
@@ -106,11 +107,38 @@ impl Rule {
         }
     }
 
-    /// Impulse increment of a point solved both ways between two moving bodies
-    /// (balls in a pit): Box2D's soft step while it penetrates,
+    /// Impulse increment of a point solved both ways: rigid, a penetration pushed
+    /// out at the soft contact's rate (at most `max_push_velocity`) in the first
+    /// pass and the push-out taken back by the relax pass.
+    #[inline(always)]
+    pub(crate) fn both_ways(&self, s: f64, vn: f64, p: &Point) -> f64 {
+        -p.normal_mass * (vn + self.rigid_bias(s))
+    }
+
+    /// The velocity bias of [`Rule::both_ways`] at separation `s` (m/s): the
+    /// point's velocity is solved for `v_n + bias = 0` (or more).
+    #[inline(always)]
+    fn rigid_bias(&self, s: f64) -> f64 {
+        if s > 0.0 {
+            s * self.inv_h
+        } else if !self.relax {
+            -self.soft.mass_scale * self.push_out_speed(s)
+        } else {
+            0.0
+        }
+    }
+
+    /// How a point at (effective) separation `s` is solved this pass, between
+    /// two `moving` bodies or not: `None` if it is left alone (a gap in the
+    /// relax pass, which is the next substep's business: closing it here
+    /// would brake a body that has not arrived yet).
+    ///
+    /// Between two moving bodies (balls in a pit) a penetrating point takes
+    /// Box2D's soft step,
     /// `−(1/K)·s_m·(v_n − push) − s_i·λ`, its spring at a third of the
     /// substep rate (80 Hz at the defaults) with the contacts' damping ratio,
-    /// its push-out at that spring's rate; as [`Rule::both_ways`] otherwise.
+    /// its push-out at that spring's rate; any other point is solved as
+    /// [`Rule::both_ways`].
     /// Rigid, a pile of balls solved by one Gauss–Seidel pass a substep never
     /// comes to rest: its contacts trade the warm start's impulses back and
     /// forth (1000 balls still at a median 5 mm/s after 10 s, bursts of
@@ -121,28 +149,32 @@ impl Rule {
     /// 1.9 / 0.53 mm, at rest; at 120 Hz 0.75 / 0.25 mm, but a median
     /// 1e-4 m/s left and a ball wedged at 2 cm/s.
     #[inline(always)]
-    pub(crate) fn between_moving(&self, s: f64, vn: f64, p: &Point) -> f64 {
-        if s <= 0.0 && !self.relax {
+    pub(crate) fn law(&self, s: f64, moving: bool) -> Option<Law> {
+        if self.relax && s > 0.0 {
+            None
+        } else if moving && s <= 0.0 && !self.relax {
             let push = self.push_at(&self.pair, s);
-            -p.normal_mass * self.pair.mass_scale * (vn - push) - self.pair.impulse_scale * p.normal_impulse
+            Some(Law { mass_scale: self.pair.mass_scale, impulse_scale: self.pair.impulse_scale, bias: -push })
         } else {
-            self.both_ways(s, vn, p)
+            Some(Law { mass_scale: 1.0, impulse_scale: 0.0, bias: self.rigid_bias(s) })
         }
     }
+}
 
-    /// Impulse increment of a point solved both ways: rigid, a penetration pushed
-    /// out at the soft contact's rate (at most `max_push_velocity`) in the first
-    /// pass and the push-out taken back by the relax pass.
+/// The soft step of one point: `Δλ = −(1/K)·s_m·(v_n + bias) − s_i·λ` (rigid:
+/// `s_m = 1`, `s_i = 0`).
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Law {
+    mass_scale: f64,
+    impulse_scale: f64,
+    bias: f64,
+}
+
+impl Law {
+    /// The impulse increment of point `p` at normal velocity `vn`.
     #[inline(always)]
-    pub(crate) fn both_ways(&self, s: f64, vn: f64, p: &Point) -> f64 {
-        let bias = if s > 0.0 {
-            s * self.inv_h
-        } else if !self.relax {
-            -self.soft.mass_scale * self.push_out_speed(s)
-        } else {
-            0.0
-        };
-        -p.normal_mass * (vn + bias)
+    pub(crate) fn impulse(&self, vn: f64, p: &Point) -> f64 {
+        -p.normal_mass * self.mass_scale * (vn + self.bias) - self.impulse_scale * p.normal_impulse
     }
 }
 
@@ -185,7 +217,9 @@ impl ContactSolver {
     }
 }
 
-/// One pass over the points of constraint `c` (a few for a fresh manifold).
+/// One pass over the points of constraint `c`: together and exactly where
+/// they can be (see [`solve_together`]), else one Gauss–Seidel sweep (a few
+/// for a fresh manifold).
 #[inline(always)]
 fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: &Rule) {
     let mut pair = Pair::load(bodies, c);
@@ -196,16 +230,16 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
     let sweeps = if c.fresh && c.len > 1 && !rule.relax { FRESH_SWEEPS } else { 1 };
     let range = c.start as usize..(c.start + c.len) as usize;
     let moving = bodies[c.s1 as usize].dynamic && bodies[c.s2 as usize].dynamic;
+    if c.len > 1 && solve_together(c, &mut points[range.clone()], &mut pair, &gap, rule, moving) {
+        pair.store(bodies, c);
+        return;
+    }
     for _ in 0..sweeps {
         for p in &mut points[range.clone()] {
-            let s = rule.effective(gap.separation(p));
-            if rule.relax && s > 0.0 {
-                // After the drift a gap is the next substep's business: closing it
-                // here would brake a body that has not arrived yet.
+            let Some(law) = rule.law(rule.effective(gap.separation(p)), moving) else {
                 continue;
-            }
-            let vn = pair.normal_velocity(c, p);
-            let imp = if moving { rule.between_moving(s, vn, p) } else { rule.both_ways(s, vn, p) };
+            };
+            let imp = law.impulse(pair.normal_velocity(c, p), p);
             let total = (p.normal_impulse + imp).max(0.0);
             let delta = total - p.normal_impulse;
             p.normal_impulse = total;
@@ -213,4 +247,50 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
         }
     }
     pair.store(bodies, c);
+}
+
+/// The points of a manifold (an edge or a face on a face) solved together and
+/// exactly (see [`super::small_lcp`]): each point's soft step (see [`Law`])
+/// as one, `K Δλ = −s_m (v_n + bias) − s_i K λ`. Returns false (nothing
+/// changed) where a point is left alone this pass, or the manifold is too
+/// large or degenerate.
+fn solve_together(c: &Constraint, pts: &mut [Point], pair: &mut Pair, gap: &Gap, rule: &Rule, moving: bool) -> bool {
+    if pts.len() > MAX_POINTS {
+        return false;
+    }
+    // The points solved this pass (a point left alone keeps its impulse).
+    let mut idx = [0usize; MAX_POINTS];
+    let mut laws = [Law::default(); MAX_POINTS];
+    let mut n = 0;
+    for (i, p) in pts.iter().enumerate() {
+        if let Some(law) = rule.law(rule.effective(gap.separation(p)), moving) {
+            idx[n] = i;
+            laws[n] = law;
+            n += 1;
+        }
+    }
+    if n < 2 {
+        return false;
+    }
+    let mut k = [0.0; MAX_POINTS * MAX_POINTS];
+    let (mut b, mut x) = ([0.0; MAX_POINTS], [0.0; MAX_POINTS]);
+    for a in 0..n {
+        let (pa, law) = (&pts[idx[a]], laws[a]);
+        for c2 in 0..n {
+            k[a * n + c2] = pair.coupling(pa, &pts[idx[c2]]);
+        }
+        // `K x + b = 0` at the new impulses `x` of the points that push.
+        let held: f64 = (0..n).map(|c2| k[a * n + c2] * pts[idx[c2]].normal_impulse).sum();
+        b[a] = law.mass_scale * (pair.normal_velocity(c, pa) + law.bias) - (1.0 - law.impulse_scale) * held;
+    }
+    if !small_lcp(&k[..n * n], &b[..n], &mut x[..n]) {
+        return false;
+    }
+    for a in 0..n {
+        let p = &mut pts[idx[a]];
+        let delta = x[a] - p.normal_impulse;
+        p.normal_impulse = x[a];
+        pair.apply_normal(c, p, delta);
+    }
+    true
 }

@@ -2,6 +2,7 @@
 //! soft constraints with substeps and relaxation), restitution by impacts, Coulomb
 //! friction on a true cone, islands and sleeping.
 
+pub mod active_set;
 pub mod block;
 pub mod contact;
 pub mod friction;
@@ -18,5 +19,6 @@ pub mod solver_body;
 pub mod warm_guard;
 pub mod release;
 pub mod reuse;
+pub mod small_lcp;
 
 pub use contact::{ContactSolver, SolverSettings};

@@ -116,6 +116,13 @@ impl Pair {
         c.normal.dot(&(self.v2 - self.v1)) + self.w2.dot(&p.rn2) - self.w1.dot(&p.rn1)
     }
 
+    /// Change of point `a`'s normal velocity per unit normal impulse at point
+    /// `b` of the same constraint (m/s per N·s): an entry of `K`.
+    #[inline(always)]
+    pub fn coupling(&self, a: &Point, b: &Point) -> f64 {
+        self.m1 + self.m2 + a.rn1.dot(&b.irn1) + a.rn2.dot(&b.irn2)
+    }
+
     #[inline(always)]
     pub fn apply_normal(&mut self, c: &Constraint, p: &Point, j: f64) {
         self.v1 -= c.normal * (j * self.m1);

@@ -22,6 +22,19 @@ fn pushes(t: Target) -> bool {
 /// side at most once or twice in the blocks of a pile.
 const ROUNDS: usize = 8;
 
+/// Scratch space of [`ContactSolver::active_set`]: per row, whether it is
+/// kept; the kept rows in solve order, their `K`, its factor, their targets
+/// and answer.
+#[derive(Clone, Default)]
+pub struct Pivot {
+    kept: Vec<bool>,
+    order: Vec<usize>,
+    k: Vec<f64>,
+    factor: Vec<f64>,
+    r: Vec<f64>,
+    y: Vec<f64>,
+}
+
 impl ContactSolver {
     /// Solves block `g` for `sc.r` with the points that pull let go; `sc.y`
     /// holds the exact solve's answer on entry. Returns whether the answer
@@ -37,17 +50,16 @@ impl ContactSolver {
         }
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let m = r1 - r0;
-        let scale = sc.lambda.iter().chain(&sc.y[..m]).fold(0.0f64, |a, x| a.max(x.abs()));
-        let tiny = 1e-9 * scale;
+        let tiny = sc.round_off();
         let slow = 1e-9 * sc.r[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let pulls = |sc: &Scratch, i: usize| sc.lambda[i] + sc.y[i] < -tiny;
-        sc.kept.clear();
+        sc.pivot.kept.clear();
         for i in 0..m {
             let let_go = pushes(self.support.targets[r0 + i]) && pulls(sc, i);
-            sc.kept.push(!let_go);
+            sc.pivot.kept.push(!let_go);
         }
         // Every point pushes: the exact answer failed on friction alone.
-        if sc.kept.iter().all(|&k| k) {
+        if sc.pivot.kept.iter().all(|&k| k) {
             return false;
         }
         self.ensure_k(g);
@@ -55,18 +67,18 @@ impl ContactSolver {
             self.solve_kept(g, sc);
             let mut changed = false;
             for i in 0..m {
-                if sc.kept[i] && pushes(self.support.targets[r0 + i]) && pulls(sc, i) {
-                    sc.kept[i] = false;
+                if sc.pivot.kept[i] && pushes(self.support.targets[r0 + i]) && pulls(sc, i) {
+                    sc.pivot.kept[i] = false;
                     changed = true;
                 }
             }
             if !changed {
                 let k = &self.support.k[b.k as usize..b.k as usize + m * m];
                 for i in 0..m {
-                    if !sc.kept[i] {
+                    if !sc.pivot.kept[i] {
                         let ky: f64 = k[i * m..(i + 1) * m].iter().zip(&sc.y[..m]).map(|(a, y)| a * y).sum();
                         if sc.r[i] - ky > slow {
-                            sc.kept[i] = true;
+                            sc.pivot.kept[i] = true;
                             changed = true;
                         }
                     }
@@ -88,34 +100,34 @@ impl ContactSolver {
         let m = r1 - r0;
         let k = &self.support.k[b.k as usize..b.k as usize + m * m];
         let rows = &self.support.rows[r0..r1];
-        sc.order.clear();
+        sc.pivot.order.clear();
         let is_normal = |i: usize| matches!(rows[i].kind, RowKind::Normal(_));
-        sc.order.extend((0..m).filter(|&i| sc.kept[i] && is_normal(i)));
-        sc.order.extend((0..m).filter(|&i| sc.kept[i] && !is_normal(i)));
+        sc.pivot.order.extend((0..m).filter(|&i| sc.pivot.kept[i] && is_normal(i)));
+        sc.pivot.order.extend((0..m).filter(|&i| sc.pivot.kept[i] && !is_normal(i)));
         for i in 0..m {
-            if !sc.kept[i] {
+            if !sc.pivot.kept[i] {
                 sc.y[i] = -sc.lambda[i];
             }
         }
-        let n = sc.order.len();
-        sc.sub_k.clear();
-        sc.sub_k.resize(n * n, 0.0);
-        sc.sub_factor.clear();
-        sc.sub_factor.resize(n * n, 0.0);
-        sc.sub_r.clear();
-        sc.sub_y.clear();
-        sc.sub_y.resize(n, 0.0);
-        for (p, &i) in sc.order.iter().enumerate() {
-            for (q, &j) in sc.order.iter().enumerate() {
-                sc.sub_k[p * n + q] = k[i * m + j];
+        let n = sc.pivot.order.len();
+        sc.pivot.k.clear();
+        sc.pivot.k.resize(n * n, 0.0);
+        sc.pivot.factor.clear();
+        sc.pivot.factor.resize(n * n, 0.0);
+        sc.pivot.r.clear();
+        sc.pivot.y.clear();
+        sc.pivot.y.resize(n, 0.0);
+        for (p, &i) in sc.pivot.order.iter().enumerate() {
+            for (q, &j) in sc.pivot.order.iter().enumerate() {
+                sc.pivot.k[p * n + q] = k[i * m + j];
             }
-            let held: f64 = (0..m).filter(|&j| !sc.kept[j]).map(|j| k[i * m + j] * sc.y[j]).sum();
-            sc.sub_r.push(sc.r[i] - held);
+            let held: f64 = (0..m).filter(|&j| !sc.pivot.kept[j]).map(|j| k[i * m + j] * sc.y[j]).sum();
+            sc.pivot.r.push(sc.r[i] - held);
         }
-        factor(&sc.sub_k, &mut sc.sub_factor, n);
-        solve_factored(&sc.sub_factor, &sc.sub_r, &mut sc.sub_y);
-        for (p, &i) in sc.order.iter().enumerate() {
-            sc.y[i] = sc.sub_y[p];
+        factor(&sc.pivot.k, &mut sc.pivot.factor, n);
+        solve_factored(&sc.pivot.factor, &sc.pivot.r, &mut sc.pivot.y);
+        for (p, &i) in sc.pivot.order.iter().enumerate() {
+            sc.y[i] = sc.pivot.y[p];
         }
     }
 }

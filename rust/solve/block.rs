@@ -17,7 +17,8 @@
 use super::contact::{Constraint, ContactSolver, Point};
 use super::friction::Patch;
 use super::limit_surface::inside;
-use super::small_lcp::Factor;
+use super::active_set::Pivot;
+use super::projected_gauss_seidel::Runs;
 use super::solver_body::SolverBody;
 use crate::math::Vec3;
 use nalgebra::{Matrix6, Vector6};
@@ -183,32 +184,21 @@ pub struct Scratch {
     pub(super) inv3: Vec<[f64; 6]>,
     /// `y` before a projected Gauss–Seidel sweep.
     pub(super) before: Vec<f64>,
-    /// Of the active-set solve (see [`super::active_set`]): per row, whether it
-    /// is kept; the kept rows in solve order, their `K`, its factor, their
-    /// targets and answer.
+    /// Of the active-set solve and of the faces solved together in projected
+    /// Gauss–Seidel (overwritten by each solve, never saved).
     #[serde(skip)]
-    pub(super) kept: Vec<bool>,
+    pub(super) pivot: Pivot,
     #[serde(skip)]
-    pub(super) order: Vec<usize>,
-    #[serde(skip)]
-    pub(super) sub_k: Vec<f64>,
-    #[serde(skip)]
-    pub(super) sub_factor: Vec<f64>,
-    #[serde(skip)]
-    pub(super) sub_r: Vec<f64>,
-    #[serde(skip)]
-    pub(super) sub_y: Vec<f64>,
-    /// Of projected Gauss–Seidel: per row, the length of the run of a face's
-    /// normals it opens (solved together), and their `K`.
-    #[serde(skip)]
-    pub(super) runs: Vec<usize>,
-    #[serde(skip)]
-    pub(super) face_k: Vec<f64>,
-    #[serde(skip)]
-    pub(super) factors: Vec<Factor>,
+    pub(super) runs: Runs,
 }
 
 impl Scratch {
+    /// The round-off of a block solve: a point that carries nothing may come
+    /// out at -1e-12 of the block's largest impulse.
+    pub(super) fn round_off(&self) -> f64 {
+        1e-9 * self.lambda.iter().chain(&self.y).fold(0.0f64, |a, x| a.max(x.abs()))
+    }
+
     /// `m` entries in each (their values are overwritten by each solve).
     fn reset(&mut self, m: usize) {
         for v in [&mut self.r, &mut self.lambda, &mut self.y, &mut self.diag, &mut self.before] {
@@ -449,10 +439,8 @@ impl ContactSolver {
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let rows = &self.support.rows[r0..r1];
         let targets = &self.support.targets[r0..r1];
-        let scale = sc.lambda.iter().chain(&sc.y).fold(0.0f64, |a, x| a.max(x.abs()));
-        // The round-off of the solve (a point that carries nothing may come out at
-        // -1e-12 of the block's largest impulse): taken as zero.
-        let tiny = 1e-9 * scale;
+        // Taken as zero.
+        let tiny = sc.round_off();
         let mut i = 0;
         while i < rows.len() {
             let face = rows[i].face;

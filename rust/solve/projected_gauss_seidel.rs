@@ -13,6 +13,17 @@ use crate::math::Vec3;
 /// does not fit the contact conditions (a body tipping or sliding).
 const PGS_SWEEPS: usize = 12;
 
+/// Scratch space of the faces solved together: per row, the length of the
+/// run of a face's normals it opens, their `K` (at `row · MAX_POINTS`) and the
+/// factor kept between sweeps (only grown: a factor is forgotten when its run
+/// is laid out, and the rest is written before it is read).
+#[derive(Clone, Default)]
+pub struct Runs {
+    len: Vec<usize>,
+    k: Vec<f64>,
+    factors: Vec<Factor>,
+}
+
 impl ContactSolver {
     /// Projected Gauss–Seidel on block `g`'s `K` in impulse space: points push,
     /// friction stays in its cone (Coulomb: a patch that breaks away slides with
@@ -65,20 +76,24 @@ impl ContactSolver {
         };
         // Per row opening a face's run of normals solved together: its length
         // and (at `i · MAX_POINTS`) their `K`, the same every sweep.
-        let (runs, face_k, factors) = (&mut sc.runs, &mut sc.face_k, &mut sc.factors);
+        let Runs { len: runs, k: face_k, factors } = &mut sc.runs;
         runs.clear();
         runs.resize(m, 0);
-        factors.clear();
-        factors.resize(m, Factor::default());
-        face_k.resize(m * MAX_POINTS, 0.0);
+        if face_k.len() < m * MAX_POINTS {
+            face_k.resize(m * MAX_POINTS, 0.0);
+        }
+        if factors.len() < m {
+            factors.resize(m, Factor::default());
+        }
         if together {
             let mut i = 0;
             while i < m {
                 let face = rows[i].face;
                 let end = (i..m).find(|&k| rows[k].face != face || !matches!(targets[k], Target::AtLeast(_))).unwrap_or(m);
                 let n = end - i;
-                if (2..=MAX_POINTS).contains(&n) && i * MAX_POINTS + n * n <= face_k.len() {
+                if (2..=MAX_POINTS).contains(&n) {
                     runs[i] = n;
+                    factors[i].forget();
                     for a in 0..n {
                         for c in 0..n {
                             face_k[i * MAX_POINTS + a * n + c] = kij(i + a, i + c);

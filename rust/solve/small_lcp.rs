@@ -45,6 +45,13 @@ impl Default for Factor {
 /// No set factored yet.
 const NONE: u32 = u32::MAX;
 
+impl Factor {
+    /// Drops the factored set (for a new `K`).
+    pub fn forget(&mut self) {
+        self.push = NONE;
+    }
+}
+
 /// Solves the problem for symmetric positive semi-definite `k` (`n × n`, row
 /// major, `n = b.len()`). Returns whether it found `x`; if not, `x` is
 /// unchanged.

@@ -12,6 +12,7 @@
 
 use super::block::{factor, solve_factored, RowKind, Scratch, Target};
 use super::contact::ContactSolver;
+use super::small_lcp::SLOW;
 
 /// Whether a row's target is a point's push (which may be let go).
 fn pushes(t: Target) -> bool {
@@ -51,7 +52,7 @@ impl ContactSolver {
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let m = r1 - r0;
         let tiny = sc.round_off();
-        let slow = 1e-9 * sc.r[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let slow = SLOW * sc.r[..m].iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let pulls = |sc: &Scratch, i: usize| sc.lambda[i] + sc.y[i] < -tiny;
         sc.pivot.kept.clear();
         for i in 0..m {

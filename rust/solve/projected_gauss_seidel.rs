@@ -200,5 +200,4 @@ impl ContactSolver {
             }
         }
     }
-
 }

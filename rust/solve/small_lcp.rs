@@ -26,6 +26,11 @@ const ROUNDS: usize = 8;
 /// corners of a flat landing 3e-7 apart; 1e-8 balances the two).
 const REGULARIZATION: f64 = 1e-8;
 
+/// Approach speed, relative to the largest velocity asked of a problem, below
+/// which a point let go counts as not approaching: round-off, not a reason to
+/// take it back (shared with [`super::active_set`]).
+pub const SLOW: f64 = 1e-9;
+
 /// The set of points that pushed in the last answer of one face and the
 /// Cholesky factor of their `K`, kept between the sweeps of a projected
 /// Gauss–Seidel solve (whose `K` stays the same): a face whose points keep
@@ -71,7 +76,7 @@ pub fn small_lcp_with(k: &[f64], b: &[f64], x: &mut [f64], f: &mut Factor) -> bo
         return false;
     }
     let eps = REGULARIZATION * scale;
-    let slow = 1e-9 * b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let slow = SLOW * b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut push = if f.push == NONE { (0..n).filter(|&i| b[i] < 0.0).fold(0u32, |m, i| m | 1 << i) } else { f.push };
     let mut y = [0.0; MAX_POINTS];
     for _ in 0..ROUNDS {

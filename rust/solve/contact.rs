@@ -142,6 +142,10 @@ pub struct Constraint {
     /// at the step start, or one of them is fixed or kinematic: only then may
     /// the support sweeps hold its lower body (see `super::support`).
     pub settled: bool,
+    /// Settled as a flat landing faster than `SETTLED` (see
+    /// `super::support::LANDING`): held only on a held body.
+    #[serde(default)]
+    pub landing: bool,
     /// Its arms, masses and patch are still those of its anchors (not
     /// refreshed since built): they may be kept next step (see `super::reuse`).
     pub as_built: bool,
@@ -367,6 +371,7 @@ impl ContactSolver {
             group: 0,
             generalized: (ctx.s1 != 0 && self.is_link(ctx.b1)) || (ctx.s2 != 0 && self.is_link(ctx.b2)),
             settled: true,
+            landing: false,
             as_built: true,
         };
         let mut patch = kept_patch.unwrap_or_else(|| Patch::new(&constraint, &self.points[start as usize..], &self.bodies));

@@ -23,6 +23,7 @@
 use super::contact::{Constraint, ContactSolver, Point};
 use super::small_lcp::{small_lcp, MAX_POINTS};
 use super::soft::Softness;
+use super::warm_guard::in_pass;
 use super::solver_body::{Gap, Pair, SolverBody};
 
 /// Sweeps over the points of a manifold that has no warm start.
@@ -182,8 +183,10 @@ impl ContactSolver {
     /// The support sweeps (normals and friction), then one pass over the
     /// normals of the contacts solved both ways: what a wall or a paddle does
     /// to a body is then exact at the end of the pass. The relax pass (after the
-    /// drift) is for the contacts solved both ways, to take back their push-out:
-    /// the blocks, solved exactly and pushed out by the position pass, have none.
+    /// drift) takes back the push-out of the contacts solved both ways, and
+    /// sweeps again the islands of blocks they touch (see
+    /// [`Self::keep_to_pushed`]; blocks have no push-out: the position pass
+    /// moves them).
     pub fn solve_normal(&mut self, relax: bool) {
         let rule = self.rule(relax);
         let changed = self.velocity_pass(&rule);
@@ -192,17 +195,19 @@ impl ContactSolver {
         if !relax && self.gained_energy(&rule, changed) {
             self.without_warm_start();
             self.velocity_pass(&rule);
+            self.end_redo();
         }
     }
 
     /// One pass; whether it changed anything after the warm start.
     fn velocity_pass(&mut self, rule: &Rule) -> bool {
-        if !rule.relax {
-            self.sweep_supports(rule);
-        }
+        self.sweep_supports(rule);
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         for &ci in &self.ordinary {
-            solve(&cs[ci as usize], points, bodies, rule);
+            let c = &cs[ci as usize];
+            if in_pass(&self.guard.redo, c) {
+                solve(c, points, bodies, rule);
+            }
         }
         // See `super::release`. (The relax pass's excess is released after
         // the next warm start.)

@@ -12,6 +12,7 @@
 
 use super::contact::ContactSolver;
 use super::impulse::Rule;
+use super::warm_guard::in_pass;
 use super::solver_body::{Gap, Pair};
 
 impl ContactSolver {
@@ -33,11 +34,12 @@ impl ContactSolver {
         // into a stack leave that much while the sweeps converge, and taking
         // it back point by point tipped a 30-cube tower at dt = 1/3000 s.
         let tolerance = self.support.substep_gravity();
+        let redo = &self.guard.redo;
         let (cs, points, patches, bodies) = (&self.constraints, &mut self.points, &mut self.patches, &mut self.bodies);
         let mut released = false;
         for (ci, c) in cs.iter().enumerate() {
             // Settled support contacts are solved exactly on a held body.
-            if c.generalized || (c.lower != 0 && c.settled) {
+            if c.generalized || (c.lower != 0 && c.settled) || !in_pass(redo, c) {
                 continue;
             }
             let mut pair = Pair::load(bodies, c);

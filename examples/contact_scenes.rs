@@ -142,7 +142,7 @@ fn main() {
     let s = t.elapsed().as_secs_f64();
     println!("{scene}: {steps} steps in {s:.3} s, {:.0} steps/s", steps as f64 / s);
     if let Some(c) = w.collision.as_ref() {
-        let (pairs, touching) = (c.narrow.pairs.len(), c.narrow.touching.len());
+        let (pairs, touching) = (c.narrow.len(), c.narrow.touching.len());
         let (manifolds, points) = (c.solver.constraints.len(), c.solver.points.len());
         println!("  pairs {pairs}, touching {touching}, manifolds {manifolds}, points {points}");
     }

@@ -93,14 +93,19 @@ impl PairState {
     }
 }
 
-/// The persistent pairs, sorted by key (the broad phase's candidates come sorted,
-/// so a step's pairs are matched to the last step's by a merge, without hashing),
-/// and the ones with contact points this step, as indices into `pairs`.
+/// The persistent pairs. Each keeps its slot in `pairs` while it lasts (a freed
+/// slot is reused), and `order` lists the live ones sorted by key: the broad
+/// phase's candidates come sorted, so a step's pairs are matched to the last
+/// step's by a merge, without hashing, and the merge moves 12-byte entries, not
+/// pair states (moving the states was 6 % of a ball pit's step). `touching`:
+/// the slots of the pairs with contact points this step, in key order.
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NarrowPhase {
     pub pairs: Vec<PairState>,
+    order: Vec<((u32, u32), u32)>,
+    free: Vec<u32>,
     pub touching: Vec<u32>,
-    spare: Vec<PairState>,
+    spare: Vec<((u32, u32), u32)>,
 }
 
 /// This step's prediction and manifolds of a pair: `None` if the balls around the
@@ -143,47 +148,88 @@ impl NarrowPhase {
         // While the candidates are the pairs kept from the last step, in order (a
         // scene that moves in place), each is updated where it lies.
         let mut kept = 0;
-        for (&key, state) in candidates.iter().zip(self.pairs.iter_mut()) {
-            if state.key != key {
+        for (&key, &(k, slot)) in candidates.iter().zip(self.order.iter()) {
+            if k != key {
                 break;
             }
-            match step_pair(state, colliders, bodies, pred) {
+            match step_pair(&mut self.pairs[slot as usize], colliders, bodies, pred) {
                 None => break,
                 Some(touching) => {
                     if touching {
-                        self.touching.push(kept as u32);
+                        self.touching.push(slot);
                     }
                     kept += 1;
                 }
             }
         }
-        if kept == candidates.len() && kept == self.pairs.len() {
+        if kept == candidates.len() && kept == self.order.len() {
             return;
         }
         // The rest by a merge of the remaining candidates with the remaining pairs.
         let mut last = std::mem::take(&mut self.spare);
-        last.extend(self.pairs.drain(kept..));
-        let mut old = last.drain(..).peekable();
-        for &(i, j) in &candidates[kept..] {
-            let mut state = None;
-            while let Some(o) = old.next_if(|o| o.key <= (i, j)) {
-                if o.key == (i, j) {
-                    state = Some(o);
-                } else if dormant(o.key.0, o.key.1) {
-                    self.pairs.push(o);
+        last.clear();
+        last.extend(self.order.drain(kept..));
+        let mut old = last.iter().copied().peekable();
+        for &key in &candidates[kept..] {
+            let mut found = None;
+            while let Some((k, slot)) = old.next_if(|o| o.0 <= key) {
+                if k == key {
+                    found = Some(slot);
+                } else {
+                    self.keep_if(dormant(k.0, k.1), k, slot);
                 }
             }
-            let mut state = state.unwrap_or_else(|| PairState { key: (i, j), ..Default::default() });
+            let slot = found.unwrap_or_else(|| self.claim(key));
             // A pair apart is not kept: it carries warm-start data only for points
             // within its prediction.
-            let Some(touching) = step_pair(&mut state, colliders, bodies, pred) else { continue };
-            if touching {
-                self.touching.push(self.pairs.len() as u32);
+            match step_pair(&mut self.pairs[slot as usize], colliders, bodies, pred) {
+                None => self.keep_if(false, key, slot),
+                Some(touching) => {
+                    if touching {
+                        self.touching.push(slot);
+                    }
+                    self.order.push((key, slot));
+                }
             }
-            self.pairs.push(state);
         }
-        self.pairs.extend(old.filter(|o| dormant(o.key.0, o.key.1)));
+        for (k, slot) in old {
+            self.keep_if(dormant(k.0, k.1), k, slot);
+        }
         self.spare = last;
+    }
+
+    /// How many pairs are kept.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    /// A slot for a new pair `key`, without contacts.
+    fn claim(&mut self, key: (u32, u32)) -> u32 {
+        let state = PairState { key, ..Default::default() };
+        match self.free.pop() {
+            Some(slot) => {
+                self.pairs[slot as usize] = state;
+                slot
+            }
+            None => {
+                self.pairs.push(state);
+                (self.pairs.len() - 1) as u32
+            }
+        }
+    }
+
+    /// Keeps pair `key` at `slot` in the order, or frees its slot.
+    fn keep_if(&mut self, keep: bool, key: (u32, u32), slot: u32) {
+        if keep {
+            self.order.push((key, slot));
+        } else {
+            self.pairs[slot as usize] = PairState::default();
+            self.free.push(slot);
+        }
     }
 }
 

@@ -357,7 +357,7 @@ mod tests {
         let mut w = balls([0.0, 0.0, -9.81], &[([0.0; 3], v, false), ([0.25, 0.0, 0.0], v, false)]);
         w.step(1).unwrap();
         assert!(w.collision.as_ref().unwrap().narrow.touching.is_empty());
-        assert!(w.collision.as_ref().unwrap().narrow.pairs.is_empty());
+        assert!(w.collision.as_ref().unwrap().narrow.is_empty());
     }
 
     #[test]

@@ -14,6 +14,10 @@ fn material(friction: f64) -> rigidrs::collide::Material {
 fn settings() -> Settings {
     let mut s = Settings::new(1.0 / 60.0);
     s.sleep.enabled = false;
+    // `THREADS=n`: the world's worker threads (default: every core).
+    if let Some(n) = std::env::var("THREADS").ok().and_then(|n| n.parse().ok()) {
+        s.threads = Some(n);
+    }
     if let Ok(h) = std::env::var("HERTZ") {
         s.solver.contact_hertz = h.parse().unwrap_or(30.0);
     }

@@ -402,9 +402,9 @@ impl ContactSolver {
             end = start;
         }
         if !self.support.solved.is_empty() {
-            let step = self.sweep_step();
-            if step < 1.0 {
-                self.shorten_sweep(step);
+            let steps = self.sweep_steps();
+            if steps.iter().any(|&t| t < 1.0) {
+                self.shorten_sweep(&steps);
             }
         }
     }
@@ -468,15 +468,18 @@ impl ContactSolver {
         }
     }
 
-    /// The fraction of the sweeps' change to keep: the one that leaves the least
-    /// violation `Σ (row velocity − target)²` over the rows that hold (pushing
-    /// points, sticking patches), quadratic in the fraction. It is 1 where the
-    /// sweeps solved the blocks exactly (a column, a pyramid at rest); less where
-    /// a lower body was not held as the sweeps assumed and they overshot, which
-    /// would otherwise feed on itself from pass to pass.
-    fn sweep_step(&self) -> f64 {
+    /// Per island, the fraction of the sweeps' change to keep: the one that
+    /// leaves the least violation `Σ (row velocity − target)²` over its rows
+    /// that hold (pushing points, sticking patches), quadratic in the fraction.
+    /// It is 1 where the sweeps solved the blocks exactly (a column, a pyramid
+    /// at rest); less where a lower body was not held as the sweeps assumed and
+    /// they overshot, which would otherwise feed on itself from pass to pass.
+    /// Islands share no body: one that overshoots does not hold back the
+    /// others (with one fraction for all, a tumbling island kept the sweeps of
+    /// every other island of the pile at a fraction of their change).
+    fn sweep_steps(&self) -> Vec<f64> {
         let s = &self.support;
-        let (mut along, mut square) = (0.0, 0.0);
+        let (mut along, mut square) = (vec![0.0; s.islands], vec![0.0; s.islands]);
         let now = |k: usize| (self.bodies[k].v, self.bodies[k].w);
         let before = |k: usize| if s.touched[k] == s.pass { s.start_velocity[k] } else { now(k) };
         for (ri, r) in s.rows.iter().enumerate() {
@@ -484,7 +487,8 @@ impl ContactSolver {
                 Target::Skip => continue,
                 t => t.value(),
             };
-            let (upper, lower) = (s.blocks[r.block as usize].body as usize, r.lower as usize);
+            let block = &s.blocks[r.block as usize];
+            let (upper, lower, i) = (block.body as usize, r.lower as usize, block.island as usize);
             if s.touched[upper] != s.pass && s.touched[lower] != s.pass {
                 continue;
             }
@@ -495,28 +499,37 @@ impl ContactSolver {
                 _ => !self.patches[r.face as usize].sliding,
             };
             if holds {
-                along += v0 * (v1 - v0);
-                square += (v1 - v0) * (v1 - v0);
+                along[i] += v0 * (v1 - v0);
+                square[i] += (v1 - v0) * (v1 - v0);
             }
         }
-        if square <= 0.0 {
-            return 1.0;
-        }
-        (-along / square).clamp(0.0, 1.0)
+        along.iter().zip(&square).map(|(&a, &q)| if q > 0.0 { (-a / q).clamp(0.0, 1.0) } else { 1.0 }).collect()
     }
 
-    /// Keeps `step` of the sweeps' change in impulses and velocities.
-    fn shorten_sweep(&mut self, step: f64) {
+    /// Keeps `steps[i]` of the sweeps' change in impulses and velocities of
+    /// island `i`.
+    fn shorten_sweep(&mut self, steps: &[f64]) {
         let s = &self.support;
+        let mut step_of = vec![1.0; self.bodies.len()];
+        for r in &s.rows {
+            let block = &s.blocks[r.block as usize];
+            let t = steps.get(block.island as usize).copied().unwrap_or(1.0);
+            for k in [block.body, r.lower] {
+                if let Some(x) = step_of.get_mut(k as usize) {
+                    *x = t;
+                }
+            }
+        }
         for (k, b) in self.bodies.iter_mut().enumerate() {
             if s.touched[k] == s.pass {
                 let (v, w) = s.start_velocity[k];
-                b.v = v + (b.v - v) * step;
-                b.w = w + (b.w - w) * step;
+                b.v = v + (b.v - v) * step_of[k];
+                b.w = w + (b.w - w) * step_of[k];
             }
         }
         for &g in &s.solved {
             let blk = &s.blocks[g as usize];
+            let step = steps.get(blk.island as usize).copied().unwrap_or(1.0);
             for ri in blk.rows.0 as usize..blk.rows.1 as usize {
                 let r = &s.rows[ri];
                 let l0 = s.start_lambda[ri];

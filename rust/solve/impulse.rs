@@ -185,7 +185,7 @@ impl ContactSolver {
     /// to a body is then exact at the end of the pass. The relax pass (after the
     /// drift) takes back the push-out of the contacts solved both ways, and
     /// sweeps again the islands of blocks they touch (see
-    /// [`Self::keep_to_pushed`]; blocks have no push-out: the position pass
+    /// [`Self::pushed_islands`]; blocks have no push-out: the position pass
     /// moves them).
     pub fn solve_normal(&mut self, relax: bool) {
         let rule = self.rule(relax);

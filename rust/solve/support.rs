@@ -342,7 +342,7 @@ impl ContactSolver {
     }
 
     /// The two sweeps over the blocks, then the fraction of their change that
-    /// leaves the least violation (see [`Self::sweep_step`]).
+    /// leaves the least violation, per island (see [`Self::sweep_steps`]).
     pub(crate) fn sweep_supports(&mut self, rule: &Rule) {
         if self.support.blocks.is_empty() {
             return;

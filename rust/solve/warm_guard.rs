@@ -38,7 +38,7 @@ pub struct WarmGuard {
     velocities: Vec<(Vec3, Vec3)>,
     group: Vec<u32>,
     /// Per solver body, while a pass is done again: whether its group is
-    /// (empty otherwise).
+    /// among those done again (empty otherwise).
     pub(crate) redo: Vec<bool>,
 }
 
@@ -143,7 +143,9 @@ impl ContactSolver {
         let s = &mut self.support;
         let mut keep = vec![false; s.active.len()];
         for b in &s.blocks {
-            keep[b.island as usize] |= self.guard.redo.get(b.body as usize).copied().unwrap_or(false);
+            if let Some(k) = keep.get_mut(b.island as usize) {
+                *k |= self.guard.redo.get(b.body as usize).copied().unwrap_or(false);
+            }
         }
         s.active.iter_mut().zip(&keep).for_each(|(a, &k)| *a &= k);
     }

@@ -183,7 +183,7 @@ impl NarrowPhase {
             // A pair apart is not kept: it carries warm-start data only for points
             // within its prediction.
             match step_pair(&mut self.pairs[slot as usize], colliders, bodies, pred) {
-                None => self.keep_if(false, key, slot),
+                None => self.release(slot),
                 Some(touching) => {
                     if touching {
                         self.touching.push(slot);
@@ -227,9 +227,14 @@ impl NarrowPhase {
         if keep {
             self.order.push((key, slot));
         } else {
-            self.pairs[slot as usize] = PairState::default();
-            self.free.push(slot);
+            self.release(slot);
         }
+    }
+
+    /// Frees the slot of a pair that ends.
+    fn release(&mut self, slot: u32) {
+        self.pairs[slot as usize] = PairState::default();
+        self.free.push(slot);
     }
 }
 

@@ -207,14 +207,11 @@ impl ContactSolver {
         if c.generalized {
             return 0;
         }
-        let rising = c.normal.dot(up);
         let (l1, l2) = (level[c.s1 as usize], level[c.s2 as usize]);
-        let lower = if rising >= SUPPORT_ANGLE && l1 < l2 {
-            1
-        } else if rising <= -SUPPORT_ANGLE && l2 < l1 {
-            2
-        } else {
-            return 0;
+        let lower = match self.lower_by_normal(ci, up) {
+            1 if l1 < l2 => 1,
+            2 if l2 < l1 => 2,
+            _ => return 0,
         };
         let (lo, hi) = if lower == 1 { (c.s1, c.s2) } else { (c.s2, c.s1) };
         let (lo, hi) = (&self.bodies[lo as usize], &self.bodies[hi as usize]);
@@ -244,17 +241,27 @@ impl ContactSolver {
         (c.settled && !c.landing) || ((c.landing || heavy) && below_held)
     }
 
+    /// Which side of constraint `ci` is below by its normal alone (within
+    /// [`SUPPORT_ANGLE`] of the vertical; 0: neither).
+    fn lower_by_normal(&self, ci: usize, up: &Vec3) -> u8 {
+        let rising = self.constraints[ci].normal.dot(up);
+        if rising >= SUPPORT_ANGLE {
+            1
+        } else if rising <= -SUPPORT_ANGLE {
+            2
+        } else {
+            0
+        }
+    }
+
     /// The upper body of constraint `ci` if its normal is within
     /// [`SUPPORT_ANGLE`] of the vertical.
     fn upper_of(&self, ci: usize, up: &Vec3) -> Option<u32> {
         let c = &self.constraints[ci];
-        let rising = c.normal.dot(up);
-        if rising >= SUPPORT_ANGLE {
-            Some(c.s2)
-        } else if rising <= -SUPPORT_ANGLE {
-            Some(c.s1)
-        } else {
-            None
+        match self.lower_by_normal(ci, up) {
+            1 => Some(c.s2),
+            2 => Some(c.s1),
+            _ => None,
         }
     }
 
@@ -278,12 +285,8 @@ impl ContactSolver {
         if !self.bodies[c.s1 as usize].dynamic || !self.bodies[c.s2 as usize].dynamic {
             return true;
         }
-        let (i, j) = (c.b1 as usize, c.b2 as usize);
-        let (v1, w1) = (Vec3::from(b.linear_velocity[i]), Vec3::from(b.angular_velocity[i]));
-        let (v2, w2) = (Vec3::from(b.linear_velocity[j]), Vec3::from(b.angular_velocity[j]));
-        self.points[c.start as usize..(c.start + c.len) as usize]
-            .iter()
-            .all(|p| ((v2 + w2.cross(&p.r2)) - (v1 + w1.cross(&p.r1))).norm() <= speed)
+        let rel = relative_velocity(c, b);
+        self.points[c.start as usize..(c.start + c.len) as usize].iter().all(|p| rel(p).norm() <= speed)
     }
 
     /// Whether the bodies of constraint `ci` meet as a flat landing: their
@@ -291,12 +294,9 @@ impl ContactSolver {
     /// mean, that mean is along the normal within `speed` and below `landing`.
     fn lands_flat(&self, ci: usize, b: &Bodies, speed: f64, landing: f64) -> bool {
         let c = &self.constraints[ci];
-        let (i, j) = (c.b1 as usize, c.b2 as usize);
-        let (v1, w1) = (Vec3::from(b.linear_velocity[i]), Vec3::from(b.angular_velocity[i]));
-        let (v2, w2) = (Vec3::from(b.linear_velocity[j]), Vec3::from(b.angular_velocity[j]));
         let points = &self.points[c.start as usize..(c.start + c.len) as usize];
-        let rel = |p: &super::contact::Point| (v2 + w2.cross(&p.r2)) - (v1 + w1.cross(&p.r1));
-        let mean = points.iter().map(rel).sum::<Vec3>() / points.len() as f64;
+        let rel = relative_velocity(c, b);
+        let mean = points.iter().map(&rel).sum::<Vec3>() / points.len() as f64;
         let across = mean - c.normal * c.normal.dot(&mean);
         mean.norm() <= landing && across.norm() <= speed && points.iter().all(|p| (rel(p) - mean).norm() <= speed)
     }
@@ -538,4 +538,13 @@ impl ContactSolver {
             }
         }
     }
+}
+
+/// The velocity of body 2 relative to body 1 of constraint `c` at a point, from
+/// the world's velocities at the step start (m/s).
+fn relative_velocity(c: &super::contact::Constraint, b: &Bodies) -> impl Fn(&super::contact::Point) -> Vec3 {
+    let (i, j) = (c.b1 as usize, c.b2 as usize);
+    let (v1, w1) = (Vec3::from(b.linear_velocity[i]), Vec3::from(b.angular_velocity[i]));
+    let (v2, w2) = (Vec3::from(b.linear_velocity[j]), Vec3::from(b.angular_velocity[j]));
+    move |p| (v2 + w2.cross(&p.r2)) - (v1 + w1.cross(&p.r1))
 }

@@ -34,11 +34,13 @@ CAUSE = (
     "back: 1-3 J gained per substep. 8 substeps settle most seeds; repeating the sweeps of an "
     "island that overshot stands every seed but costs a 4000-cube pile 1.8x."
 )
-EIGHT = ("eight cubes keep moving: at 4 s the fastest at 0.13 / 0.11 / 0.13 / 0.12 / 0.21 / 0.14 m/s "
-         "(seeds 1-6), standing. " + CAUSE)
-TEN = ("ten cubes keep moving: at 4 s the fastest at 0.11 / 0.13 / 0.13 / 0.84 / 1.3 / 0.86 m/s "
-       "(seeds 1-6), the top cube at 4.748 / 4.748 / 4.749 / 4.715 / 4.666 / 4.703 m (rest 4.75). "
-       + CAUSE)
+EIGHT = ("eight cubes keep moving: at 4 s the fastest at 0.11 / 0.21 / 0.20 / 0.00 / 0.09 / 0.00 m/s "
+         "(seeds 1-6; 0.13 / 0.11 / 0.13 / 0.12 / 0.21 / 0.14 before the sin_cos polynomial changed the "
+         "round-off), standing. " + CAUSE)
+TEN = ("ten cubes keep moving: at 4 s the fastest at 0.34 / 0.17 / 5.6 / 3.7 / 0.62 / 1.2 m/s "
+       "(seeds 1-6), the top cube at 4.746 / 4.748 / 3.223 / 4.082 / 4.728 / 4.683 m (rest 4.75): two "
+       "seeds topple (before the sin_cos polynomial changed the round-off: 0.11-1.3 m/s, tops "
+       "4.666-4.749 m, none toppled). " + CAUSE)
 
 
 def offsets(n: int) -> np.ndarray:
@@ -64,18 +66,24 @@ def tipping_energy(n: int) -> float:
     return min(MASS * G * (np.hypot(HALF, x) - HALF) for x in d)
 
 
-@pytest.mark.parametrize("seed", range(1, 7))
 @pytest.mark.parametrize("n", [
     3, 5,
     pytest.param(8, marks=pytest.mark.xfail(strict=True, reason=EIGHT)),
     pytest.param(10, marks=pytest.mark.xfail(strict=True, reason=TEN)),
 ])
-def test_kicked_column_comes_to_rest(n: int, seed: int) -> None:
-    world = column(n, seed)
-    kick = world.kinetic_energy()
-    assert kick < tipping_energy(n)
-    world.step(STEPS)
-    speed = float(np.linalg.norm(world.bodies.linear_velocity[1:], axis=1).max())
-    top = float(world.bodies.position[-1, 2])
-    assert abs(top - (HALF + 2 * HALF * (n - 1))) < STAND, f"top cube at {top:.3f} m"
-    assert speed < REST_SPEED, f"still moving at {speed:.3f} m/s"
+def test_kicked_column_comes_to_rest(n: int) -> None:
+    # Every seed, in one test: whether one kicked column settles turns on
+    # round-off (a change of the last bit of a rotation settled two seeds of
+    # eight cubes and toppled two of ten), so a seed alone passes or fails by
+    # chance where the bar is not met.
+    failed = []
+    for seed in range(1, 7):
+        world = column(n, seed)
+        kick = world.kinetic_energy()
+        assert kick < tipping_energy(n)
+        world.step(STEPS)
+        speed = float(np.linalg.norm(world.bodies.linear_velocity[1:], axis=1).max())
+        top = float(world.bodies.position[-1, 2])
+        if abs(top - (HALF + 2 * HALF * (n - 1))) >= STAND or speed >= REST_SPEED:
+            failed.append(f"seed {seed}: top cube at {top:.3f} m, moving at {speed:.3f} m/s")
+    assert not failed, "; ".join(failed)

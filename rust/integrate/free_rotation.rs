@@ -51,7 +51,7 @@ fn store(b: &mut Bodies, i: usize, q: Quat, lb: &Vec3) {
 #[inline(always)]
 fn flow_axis(q: &mut Quat, lb: &mut Vec3, j: usize, hc: f64) {
     let theta = hc * lb[j];
-    let (s, c) = (0.5 * theta).sin_cos();
+    let (s, c) = quat::sin_cos(0.5 * theta);
     *q = quat::mul_axis(q, j, s, c);
     let (sin, cos) = (2.0 * s * c, c * c - s * s);
     let (k, l) = ((j + 1) % 3, (j + 2) % 3);
@@ -70,7 +70,7 @@ fn flow_axis_k<const J: usize, const K: usize>(q: &mut [Quat; K], lb: &mut [Vec3
     // A plain loop rather than `std::array::from_fn`, which is not always inlined.
     let mut sc = [(0.0, 0.0); K];
     for m in 0..K {
-        sc[m] = (0.5 * (hc[m] * lb[m][J])).sin_cos();
+        sc[m] = quat::sin_cos(0.5 * (hc[m] * lb[m][J]));
     }
     for m in 0..K {
         let (s, c) = sc[m];

@@ -417,19 +417,21 @@ impl World {
             return Err(self.undo(guard, Failure::RunawayBefore(r)));
         }
         let start = self.steps;
-        if let Err(p) = catch_unwind(AssertUnwindSafe(|| self.prepare())) {
-            // Undone as a failed step, but to the start of this call.
-            guard.unprepared();
-            let back = guard.roll_back(self);
-            let t = self.time();
-            let place = if back { "as at the start of this call" } else { "at its last checkpoint" };
-            return Err(Error::simulation(format!(
-                "internal error while preparing the step from t = {t:.6} s (a bug in rigidrs: please report it): \
-                 {}; the world is back at t = {t:.6} s, {place}",
-                panic_message(p.as_ref())
-            )));
-        }
-        let src = self.kick_sources();
+        let src = match catch_unwind(AssertUnwindSafe(|| self.prepare())) {
+            Ok(src) => src,
+            Err(p) => {
+                // Undone as a failed step, but to the start of this call.
+                guard.unprepared();
+                let back = guard.roll_back(self);
+                let t = self.time();
+                let place = if back { "as at the start of this call" } else { "at its last checkpoint" };
+                return Err(Error::simulation(format!(
+                    "internal error while preparing the step from t = {t:.6} s (a bug in rigidrs: please report it): \
+                     {}; the world is back at t = {t:.6} s, {place}",
+                    panic_message(p.as_ref())
+                )));
+            }
+        };
         let mut done = 0;
         while done < n {
             if done > 0 && interrupted() {

@@ -21,8 +21,7 @@ impl World {
     /// names the body. (`step_guarded` also undoes a step that fails.)
     pub fn step(&mut self, n: u64) -> Result<()> {
         self.check_inputs()?;
-        self.prepare();
-        let src = self.kick_sources();
+        let src = self.prepare();
         for _ in 0..n {
             self.one_step(&src);
         }
@@ -51,8 +50,8 @@ impl World {
 
     /// What every `step` call does once before its steps: round-off out of
     /// written quaternions, sleepers given a velocity woken, the plan and drive
-    /// targets brought up to date.
-    pub(crate) fn prepare(&mut self) {
+    /// targets brought up to date. Returns the force sources of its steps.
+    pub(crate) fn prepare(&mut self) -> KickSources {
         validate::normalize(&mut self.bodies);
         #[cfg(test)]
         if self.fail_at == Some(u64::MAX) {
@@ -60,9 +59,11 @@ impl World {
             panic!("injected failure in prepare");
         }
         self.wake_on_user_input();
-        self.replan(false);
+        let src = self.kick_sources();
+        self.replan_for(&src, false);
         self.sync_targets();
         self.articulations.invalidate();
+        src
     }
 
     /// One step of `dt`: the plan's stages, substeps and all.

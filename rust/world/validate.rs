@@ -18,7 +18,24 @@ fn finite3(b: usize, field: &str, v: &[f64; 3]) -> Result<()> {
 
 /// Checks every body without changing anything.
 pub fn check(bodies: &Bodies) -> Result<()> {
+    if all_valid(bodies) {
+        return Ok(());
+    }
     (0..bodies.len()).try_for_each(|i| check_body(bodies, i))
+}
+
+/// Whether [`check_body`] passes every body: one branch-free pass (the
+/// body-by-body check, with its early returns, was 5 % of a step of 2000
+/// free boxes), which names no body; the slow check then finds it.
+fn all_valid(bodies: &Bodies) -> bool {
+    let b = bodies;
+    let zeros = |v: &[[f64; 3]]| v.iter().map(|a| a[0] * 0.0 + a[1] * 0.0 + a[2] * 0.0).sum::<f64>();
+    let finite = zeros(&b.position) + zeros(&b.linear_velocity) + zeros(&b.angular_velocity) + zeros(&b.force) + zeros(&b.torque);
+    let unit = b.orientation.iter().fold(true, |ok, q| {
+        let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+        ok & ((n2 - 1.0).abs() <= 2.0 * UNIT_TOL)
+    });
+    finite == 0.0 && unit
 }
 
 /// Checks body `i` (an index below `bodies.len()`).

@@ -208,7 +208,13 @@ impl World {
 
     /// Rebuilds the plan if the force sources changed (or `always`).
     pub(crate) fn replan(&mut self, always: bool) {
-        let forces = self.kick_sources().any();
+        let src = self.kick_sources();
+        self.replan_for(&src, always);
+    }
+
+    /// [`Self::replan`] for the force sources `src` of the current state.
+    pub(crate) fn replan_for(&mut self, src: &KickSources, always: bool) {
+        let forces = src.any();
         if !always && forces == self.plan_inputs.forces {
             return;
         }

@@ -13,6 +13,9 @@
 # results.jsonl (raw JSON lines), peer_versions.json, side_by_side.log (stderr), COMPARISON.md.
 # CLOCK=cpu times every script with the process CPU clock instead of wall time (through
 # cpu_clock.py), for a machine shared with other jobs.
+# NumPy's OpenBLAS threads, started by every script's imports, busy-wait after a BLAS call
+# and CLOCK=cpu counts them: OPENBLAS_NUM_THREADS defaults to 1 here, for every engine alike
+# (none of the timed loops calls BLAS).
 # SCENES (default "free_bodies dzhanibekov pyramid ball_pit") picks the scenes.
 # RIGIDRS_CONTACT_VARIANTS: ';'-separated argument sets for rigidrs's pyramid and ball_pit
 # (default ";--substeps 3;--substeps 2 --iterations 2": the defaults, 4 substeps x 1
@@ -25,6 +28,7 @@ PEERS_PY=${PEERS_PY:-python3}
 RIGIDRS_PY=${RIGIDRS_PY:-python3}
 REPS=${REPS:-3}
 CLOCK=${CLOCK:-wall}
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 SCENES=${SCENES:-"free_bodies dzhanibekov pyramid ball_pit"}
 RIGIDRS_CONTACT_VARIANTS=${RIGIDRS_CONTACT_VARIANTS-";--substeps 3;--substeps 2 --iterations 2"}
 IFS=';' read -r -a RIGIDRS_VARIANTS <<< "$RIGIDRS_CONTACT_VARIANTS"

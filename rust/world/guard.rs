@@ -330,8 +330,7 @@ impl World {
     /// Whether every body and particle position, velocity and orientation is
     /// finite (one pass of sums).
     pub(crate) fn state_finite(&self) -> bool {
-        let flat = |v: &[[f64; 3]]| v.iter().map(|a| a[0] * 0.0 + a[1] * 0.0 + a[2] * 0.0).sum::<f64>();
-        validate::all_finite(&self.bodies) && self.particles().is_none_or(|p| flat(&p.position) + flat(&p.velocity) == 0.0)
+        validate::all_finite(&self.bodies) && self.particles().is_none_or(|p| validate::finite3s(&[&p.position, &p.velocity]))
     }
 
     /// After a stage of a watched step: the first stage that left the state

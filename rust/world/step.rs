@@ -257,8 +257,12 @@ impl World {
         }
         self.mark_articulation_contacts();
         let Some(c) = self.collision.as_ref() else { return };
+        if self.split_mask.as_ref() == Some(&c.solver.touching) {
+            return;
+        }
         let [free, touching] = &mut self.split;
         self.lists.partition(&c.solver.touching, free, touching);
+        self.split_mask = Some(c.solver.touching.clone());
     }
 
     fn sleep(&mut self, dt: f64) {

@@ -27,6 +27,10 @@ pub struct World {
     pub(crate) lists: BodyLists,
     /// This step's awake dynamic bodies in free flight and in contact, by class.
     pub(crate) split: [BodyLists; 2],
+    /// The touching mask `split` was made from, `None` once `lists` changed
+    /// (re-splitting unchanged lists was 2 % of a step of 2000 free boxes).
+    #[serde(skip)]
+    pub(crate) split_mask: Option<Vec<bool>>,
     pub(crate) kinematic: Vec<u32>,
     pub collision: Option<Collision>,
     /// The scene's joints and what they did over the last substep.
@@ -133,6 +137,7 @@ impl World {
             substeps,
             rotation,
             split: [lists.clone(), BodyLists::default()],
+            split_mask: None,
             lists,
             kinematic,
             collision,
@@ -226,6 +231,7 @@ impl World {
     /// Rebuilds the class lists after bodies fell asleep or woke.
     pub(crate) fn relist(&mut self) {
         self.lists = BodyLists::new(&self.bodies).without(&self.articulated_body);
+        self.split_mask = None;
         self.plan = plan(&self.plan_inputs, &self.lists);
         self.plan.assign_slots(&mut self.profile);
     }

@@ -1,5 +1,5 @@
 #!/usr/bin/env python
-"""Scene 1 in rigidrs: N free boxes spinning torque-free (no gravity, no collisions).
+"""Scene 1 in rigidrs: N free boxes spinning torque-free (no gravity, collisions disabled).
 
 The same scene, initial state and JSON fields as the peer-engine script of the same
 name (MuJoCo, PyBullet, Rapier): times the stepping loop alone (one `world.step()`
@@ -38,8 +38,11 @@ def build_rigidrs(a, integrator, pos, quat, omega):
     import rigidrs as rr
     scene = rr.Scene(gravity=(0.0, 0.0, 0.0))
     box = rr.Box(half_extents=SIZE / 2)
+    # Collisions disabled, as the peer scripts disable them (MuJoCo's contact
+    # flag, PyBullet's and Rapier's empty collision groups): the bodies keep
+    # their box shapes for the mass properties, and no collision stage runs.
     for x, q, w in zip(pos, quat, omega):
-        scene.add_body(box, density=a.density, position=x, orientation=q, angular_velocity=w)
+        scene.add_body(box, density=a.density, position=x, orientation=q, angular_velocity=w, collision_mask=0)
     world = scene.build(dt=a.dt, integrator=integrator)
     bodies = world.bodies
     # A box's principal frame is its own frame: the state is the pose we gave.

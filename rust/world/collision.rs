@@ -328,6 +328,7 @@ fn check_supported(cols: &[Collider], kinds: &[BodyKind]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use crate::body::Shape;
+    use crate::integrate::BodyLists;
     use crate::world::{BodySpec, Scene, Settings, World};
 
     fn balls(gravity: [f64; 3], specs: &[([f64; 3], [f64; 3], bool)]) -> World {
@@ -340,6 +341,29 @@ mod tests {
         let mut s = Settings::new(1.0 / 60.0);
         s.sleep.enabled = false;
         sc.build(&s).unwrap()
+    }
+
+    /// The free/touching split is kept while the touching mask is unchanged
+    /// (`World::split_mask`): it must still follow a ball that lands on a
+    /// fixed one and one thrown off it, step by step, as a split made afresh.
+    #[test]
+    fn kept_split_follows_bodies_into_and_out_of_contact() {
+        let (up, rest) = ([0.0, 0.0, 2.0], [0.0; 3]);
+        let mut w = balls([0.0, 0.0, -9.81], &[([0.0; 3], rest, true), ([0.0, 0.0, 0.5], rest, false), ([1.0, 0.0, 0.2], rest, false)]);
+        let mut seen = [false; 2];
+        for k in 0..120 {
+            if k == 60 {
+                w.bodies.linear_velocity[1] = up;
+            }
+            w.step(1).unwrap();
+            let touching = w.collision.as_ref().unwrap().solver.touching.clone();
+            let (mut free, mut held) = (BodyLists::default(), BodyLists::default());
+            w.lists.partition(&touching, &mut free, &mut held);
+            assert_eq!(w.split[0].dynamic, free.dynamic, "step {k}");
+            assert_eq!(w.split[1].dynamic, held.dynamic, "step {k}");
+            seen[touching[1] as usize] = true;
+        }
+        assert_eq!(seen, [true, true], "ball 1 both free and touching");
     }
 
     #[test]

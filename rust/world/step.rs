@@ -59,10 +59,11 @@ impl World {
             panic!("injected failure in prepare");
         }
         self.wake_on_user_input();
-        let src = self.kick_sources();
-        self.replan_for(&src, false);
         self.sync_targets();
         self.articulations.invalidate();
+        // After every wake-up: the sources scan the awake bodies.
+        let src = self.kick_sources();
+        self.replan_for(&src, false);
         src
     }
 

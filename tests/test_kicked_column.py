@@ -78,7 +78,7 @@ def test_kicked_column_comes_to_rest(n: int) -> None:
     # round-off (a change of the last bit of a rotation settled two seeds of
     # eight cubes and toppled two of ten), so a seed alone passes or fails by
     # chance where the bar is not met.
-    assert not stopped_columns(n, None)
+    assert not unsettled_columns(n, None)
 
 
 @pytest.mark.parametrize("n", [8, 10])
@@ -86,10 +86,10 @@ def test_kicked_column_comes_to_rest_at_16_substeps(n: int) -> None:
     # What to set until the default meets the bar: at 16 substeps (four times
     # the contact work of the default 4) every seed of eight and ten cubes is
     # at rest by 4 s (at 8: every seed of eight, five of six of ten).
-    assert not stopped_columns(n, 16)
+    assert not unsettled_columns(n, 16)
 
 
-def stopped_columns(n: int, substeps: int | None) -> str:
+def unsettled_columns(n: int, substeps: int | None) -> str:
     """The seeds (1-6) whose column is not standing at rest after 4 s, with what they do."""
     failed = []
     for seed in range(1, 7):

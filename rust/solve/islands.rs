@@ -65,6 +65,11 @@ impl Islands {
     ) -> bool {
         let (constraints, patches) = contacts;
         let n = b.len();
+        // An island sleeps on its shortest rest time: with no awake body at
+        // rest long enough, none can (the sliding patches below only shorten
+        // rest times), and the islands need not be found (the union–find was
+        // 7 % of a step of 2000 spinning boxes).
+        let mut ripe = false;
         for i in 0..n {
             if !b.awake(i) {
                 continue;
@@ -73,6 +78,10 @@ impl Islands {
             let w = Vec3::from(b.angular_velocity[i]).norm();
             let forced = b.force[i] != [0.0; 3] || b.torque[i] != [0.0; 3];
             self.rest_time[i] = if v < s.linear && w < s.angular && !forced { self.rest_time[i] + dt } else { 0.0 };
+            ripe |= self.rest_time[i] >= s.time;
+        }
+        if !ripe {
+            return false;
         }
         // A body its friction cannot hold is not at rest, however slowly it
         // slides (a box just past its friction angle starts from nothing).
@@ -81,12 +90,6 @@ impl Islands {
                 self.rest_time[c.b1 as usize] = 0.0;
                 self.rest_time[c.b2 as usize] = 0.0;
             }
-        }
-        // An island sleeps on its shortest rest time: with no awake body at
-        // rest long enough, none can, and the islands need not be found (the
-        // union–find was 7 % of a step of 2000 spinning boxes).
-        if !(0..n).any(|i| b.awake(i) && self.rest_time[i] >= s.time) {
-            return false;
         }
         for (i, p) in self.parent.iter_mut().enumerate().take(n) {
             *p = i as u32;

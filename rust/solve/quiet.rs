@@ -118,8 +118,9 @@ impl ContactSolver {
     /// than settled pushes. Such a contact (a box landing on a column) pushes
     /// the body under it into its supports after their sweep, and without
     /// another the body ended the substep moving down (at up to 0.8 m/s,
-    /// measured), the position pass lifting it back each substep: a loop that kept a column of dropped cubes jiggling until it
-    /// toppled and threw columns of a tumbling pile up at 2 m/s. Islands no
+    /// measured), the position pass lifting it back each substep: a loop that
+    /// kept a column of dropped cubes jiggling until it toppled and threw
+    /// columns of a tumbling pile up at 2 m/s. Islands no
     /// such contact pushes are as their sweep left them.
     pub(crate) fn pushed_islands(&self) -> Vec<bool> {
         let mut pushed = Vec::new();

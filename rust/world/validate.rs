@@ -29,10 +29,7 @@ pub fn check(bodies: &Bodies) -> Result<()> {
 /// free boxes), which names no body; the slow check then finds it.
 fn all_valid(bodies: &Bodies) -> bool {
     let b = bodies;
-    let unit = b.orientation.iter().fold(true, |ok, q| {
-        let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-        ok & ((n2 - 1.0).abs() <= 2.0 * UNIT_TOL)
-    });
+    let unit = b.orientation.iter().fold(true, |ok, q| ok & unit(norm2(q)));
     unit && finite3s(&[&b.position, &b.linear_velocity, &b.angular_velocity, &b.force, &b.torque])
 }
 
@@ -58,6 +55,17 @@ pub fn finite(v: &[f64]) -> bool {
     lanes.iter().sum::<f64>() + rest == 0.0
 }
 
+/// `|q|²` of a written quaternion: the one sum both checks judge (the fast
+/// pass must pass exactly what the body-by-body one does).
+fn norm2(q: &[f64; 4]) -> f64 {
+    q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
+}
+
+/// Whether `|q|²` is unit within what round-off explains (NaN is not).
+fn unit(n2: f64) -> bool {
+    (n2 - 1.0).abs() <= 2.0 * UNIT_TOL
+}
+
 /// Checks body `i` (an index below `bodies.len()`).
 pub fn check_body(bodies: &Bodies, i: usize) -> Result<()> {
     finite3(i, "position", &bodies.position[i])?;
@@ -66,8 +74,8 @@ pub fn check_body(bodies: &Bodies, i: usize) -> Result<()> {
     finite3(i, "force", &bodies.force[i])?;
     finite3(i, "torque", &bodies.torque[i])?;
     let q = bodies.orientation[i];
-    let n2 = q.iter().map(|x| x * x).sum::<f64>();
-    if !((n2 - 1.0).abs() <= 2.0 * UNIT_TOL) {
+    let n2 = norm2(&q);
+    if !unit(n2) {
         return Err(Error::state(format!(
             "body {i}: orientation {q:?} is not a unit quaternion (norm {}); write a normalised (x, y, z, w)",
             n2.sqrt()
@@ -81,7 +89,7 @@ pub fn check_body(bodies: &Bodies, i: usize) -> Result<()> {
 pub fn normalize(bodies: &mut Bodies) {
     for i in 0..bodies.len() {
         let q = &mut bodies.orientation[i];
-        let n2 = q.iter().map(|x| x * x).sum::<f64>();
+        let n2 = norm2(q);
         // Steps keep quaternions unit to a few ulp; only a written one needs this.
         if (n2 - 1.0).abs() > 8.0 * f64::EPSILON {
             let n = n2.sqrt();

@@ -59,6 +59,8 @@ def main():
         for line in f:
             if line.startswith("{"):
                 d = json.loads(line)
+                if d["scene"] == "pyramid" and d["n"] != 210:  # the larger bases are scenes of their own
+                    d["scene"] = f"pyramid_{d['n']}"
                 groups[(d["scene"], d["engine"], d["variant"])].append(d)
 
     reps = max((len(v) for v in groups.values()), default=0)
@@ -108,14 +110,16 @@ def main():
                   f"{med(runs, 'E_max_abs_drift'):.1e} | {med(runs, 'flip_period_rel_err'):+.1e} | "
                   f"{med(runs, 'n_flips'):.0f} | {med(runs, 'wall_s'):.2f} |")
 
-    for scene in ("pyramid", "ball_pit"):
-        runs = {k[1:]: v for k, v in groups.items() if k[0] == scene}
-        if runs:
-            contact_scene(scene, runs)
+    scenes = sorted({k[0] for k in groups}, key=lambda s: (s.split("_")[0], len(s), s))
+    for scene in scenes:
+        if scene.startswith(("pyramid", "ball_pit")):
+            contact_scene(scene, {k[1:]: v for k, v in groups.items() if k[0] == scene})
+        elif scene.startswith("box_pile"):
+            box_pile(scene, {k[1:]: v for k, v in groups.items() if k[0] == scene})
 
 
 CONTACT_BASELINES = {"MuJoCo": ("mujoco", "Euler/"), "PyBullet": ("pybullet", "maximal"),
-                     "Rapier": ("rapier3d", "threads=1")}  # variant without ",sleep": a prefix for MuJoCo, exact otherwise
+                     "Rapier": ("rapier3d", "threads=1"), "Rapier 2 threads": ("rapier3d", "threads=2")}  # variant without ",sleep": a prefix for MuJoCo, exact otherwise
 
 
 def is_sleep(variant):
@@ -140,7 +144,7 @@ def outcome(scene, runs):
         if has("max_depth_container"):
             depth += f" ({1e3 * m('max_depth_container'):.1f} against the container)"
         depth += f", peak {1e3 * m('peak_depth'):.1f}"
-    if scene == "pyramid":
+    if scene.startswith("pyramid"):
         state = "**collapsed**" if m("collapsed") >= 0.5 else ("stands" if m("max_disp") < 0.03 else "stands, > 3 cm")
         horiz = f", horizontal {100 * m('max_horiz_disp'):.1f} cm" if has("max_horiz_disp") else ""
         asleep = f"; {m('asleep'):.0f} asleep at the end" if has("asleep") and is_sleep(runs[0]["variant"]) else ""
@@ -154,7 +158,7 @@ def outcome(scene, runs):
 
 def contact_scene(scene, runs):
     first = next(iter(runs.values()))[0]
-    title = {"pyramid": f"pyramid of {first['n']} boxes", "ball_pit": f"ball pit, {first['n']} spheres"}[scene]
+    title = f"pyramid of {first['n']} boxes" if scene.startswith("pyramid") else f"ball pit, {first['n']} spheres"
     print(f"\n## {title}: {first['steps']} steps of {first['dt']:.6g} s, stepped one call per step\n")
     print("Ratios: steps/s of the row ÷ steps/s of the peer run with the same sleep setting (> 1: the row is faster).\n")
     print("| engine | variant | steps/s (min–max) | " + " | ".join(f"÷ {b}" for b in CONTACT_BASELINES) + " | outcome |")
@@ -189,6 +193,21 @@ def contact_scene(scene, runs):
                 cells.append(f"{us:.0f} ({share:.0%}; {share * cpu * 1e6:.0f})" if us >= 0.5 else "0")
             tot = float(np.median([sum(x["profile_s_per_step"].values()) for x in r])) * 1e6
             print(f"| {v} | " + " | ".join(cells) + f" | {tot:.0f} | {cpu * 1e6:.0f} |")
+
+
+def box_pile(scene, runs):
+    first = next(iter(runs.values()))[0]
+    print(f"\n## box pile, {first['n']} cubes dropped: {first['steps']} steps of {first['dt']:.6g} s, sleep off\n")
+    print("| engine | variant | steps/s (min–max) | µs per body-step | ÷ Rapier 1 thread | ÷ Rapier 2 threads | lowest centre |")
+    print("|---|---|---|---|---|---|---|")
+    base = {t: med(runs[("rapier3d", f"threads={t}")], "steps_per_s") if ("rapier3d", f"threads={t}") in runs else None
+            for t in (1, 2)}
+    for e, v in sorted(runs, key=lambda k: (k[0] == "rigidrs", k[1])):
+        r = runs[(e, v)]
+        s = med(r, "steps_per_s")
+        ratios = " | ".join(f"{s / b:.3f}" if b else "—" for b in base.values())
+        print(f"| {e} | {v} | {s:.2f} ({rng(r, 'steps_per_s')}) | {med(r, 'us_per_body_step'):.2f} | {ratios} | "
+              f"{med(r, 'min_z'):.3f} m |")
 
 
 if __name__ == "__main__":

@@ -48,6 +48,8 @@ def build_rigidrs(a, pos):
     for x in pos:
         scene.add_body(box, density=a.density, position=x, friction=a.friction, restitution=0.0)
     kw = {} if a.substeps is None else {"substeps": a.substeps}
+    if a.threads is not None:
+        kw["threads"] = a.threads
     world = scene.build(dt=a.dt, integrator=a.integrator, iterations=a.iterations, sleep=bool(a.sleep), **kw)
     bodies = world.bodies
 
@@ -66,6 +68,8 @@ def variant(a, world):
     v = f"substeps={world.substeps},iterations={a.iterations}"
     if a.integrator != "strang":
         v += f",{a.integrator}"
+    if a.threads is not None:
+        v += f",threads={a.threads}"
     return v + (",sleep" if a.sleep else "")
 
 
@@ -82,6 +86,7 @@ def main():
     ap.add_argument("--substeps", type=int, default=None, help="substeps per step (rigidrs default with contacts: 4)")
     ap.add_argument("--iterations", type=int, default=1, help="contact-solver iterations per substep")
     ap.add_argument("--integrator", default="strang")
+    ap.add_argument("--threads", type=int, default=None, help="the world's worker threads (default: every core)")
     a = ap.parse_args()
 
     pos0 = initial_positions(a)

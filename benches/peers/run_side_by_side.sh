@@ -16,7 +16,11 @@
 # NumPy's OpenBLAS threads, started by every script's imports, busy-wait after a BLAS call
 # and CLOCK=cpu counts them: OPENBLAS_NUM_THREADS defaults to 1 here, for every engine alike
 # (none of the timed loops calls BLAS).
-# SCENES (default "free_bodies dzhanibekov pyramid ball_pit") picks the scenes.
+# SCENES (default "free_bodies dzhanibekov pyramid ball_pit") picks the scenes; also
+# "large_pyramids" (bases 30 and 40, sleep off, Rapier and rigidrs only), "two_threads"
+# (the pyramid and the ball pit with both engines on two threads, rigidrs on one too) and
+# "box_pile" (4000 cubes dropped, 120 steps, Rapier and rigidrs, one thread and two; slow:
+# about a minute a repetition) for the bars of the issue "Scale".
 # RIGIDRS_CONTACT_VARIANTS: ';'-separated argument sets for rigidrs's pyramid and ball_pit
 # (default ";--substeps 3;--substeps 2 --iterations 2": the defaults, 4 substeps x 1
 # iteration; 3 x 1, the fewest substeps at which the pyramid comes to rest; 2 x 2, the
@@ -85,6 +89,28 @@ for rep in $(seq "$REPS"); do
         for v in "${RIGIDRS_VARIANTS[@]}"; do
             # shellcheck disable=SC2086
             run "$RIGIDRS_PY" "$HERE" ball_pit.py $v
+        done
+    fi
+    if has large_pyramids; then
+        for base in 30 40; do
+            for t in 1 2; do
+                run "$PEERS_PY" "$PEERS_DIR" pyramid.py --engine rapier3d --base "$base" --threads "$t"
+                run "$RIGIDRS_PY" "$HERE" pyramid.py --base "$base" --threads "$t"
+            done
+        done
+    fi
+    if has two_threads; then
+        run "$PEERS_PY" "$PEERS_DIR" pyramid.py --engine rapier3d --threads 2
+        run "$PEERS_PY" "$PEERS_DIR" ball_pit.py --engine rapier3d --threads 2
+        for t in 1 2; do
+            run "$RIGIDRS_PY" "$HERE" pyramid.py --threads "$t"
+            run "$RIGIDRS_PY" "$HERE" ball_pit.py --threads "$t"
+        done
+    fi
+    if has box_pile; then
+        for t in 1 2; do
+            run "$PEERS_PY" "$HERE" box_pile.py --engine rapier3d --steps 120 --threads "$t"
+            run "$RIGIDRS_PY" "$HERE" box_pile.py --engine rigidrs --steps 120 --threads "$t"
         done
     fi
 done

@@ -886,6 +886,12 @@ class World:
     @property
     def substeps(self) -> int:
         """Substeps per step."""
+    @property
+    def last_substeps(self) -> int:
+        """Contact substeps the last step took: ``substeps``, or 16 while a slow body rocks on
+        its supports (some points of a face let go while others push) and for 0.5 s after,
+        unless ``substeps`` was given at build; or more if an articulation in contact asked
+        for them."""
     def joint_forces(self) -> _F64:
         """(J, 3) force (N, world) each joint applied to its body a over the last
         substep (λ/h² of its positional constraints); body b received the opposite."""

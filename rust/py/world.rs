@@ -263,6 +263,14 @@ impl PyWorld {
         self.inner.substeps()
     }
 
+    /// Contact substeps the last step took: `substeps`, or 16 while a slow body
+    /// rocks on its supports and for 0.5 s after (unless `substeps` was given),
+    /// or more if an articulation in contact asked for them.
+    #[getter]
+    fn last_substeps(&self) -> u32 {
+        self.inner.last_substeps()
+    }
+
     /// Sets every applied force and torque to zero.
     fn clear_forces(&mut self) {
         self.guard.expose(exposed::FORCE | exposed::TORQUE);

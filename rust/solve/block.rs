@@ -399,6 +399,9 @@ impl ContactSolver {
             if self.well_conditioned(g, sc) && self.fits(g, sc) {
                 return;
             }
+            if velocity {
+                self.note_rocking(g, sc);
+            }
             if velocity && self.active_set(g, sc) {
                 return;
             }

@@ -20,6 +20,7 @@ pub mod solver_body;
 pub mod warm_guard;
 pub mod release;
 pub mod reuse;
+pub mod rocking;
 pub mod small_lcp;
 
 pub use contact::{ContactSolver, SolverSettings};

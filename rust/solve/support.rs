@@ -109,6 +109,8 @@ pub struct Support {
     pub disturbed: Vec<u64>,
     #[serde(default)]
     pub last_velocity_pass: u64,
+    /// See [`super::rocking`].
+    pub rocking: super::rocking::Rocking,
 }
 
 impl Support {

@@ -54,13 +54,13 @@ impl World {
     /// The substeps of this step and their length, after the narrow phase: the
     /// world's (`h` each), or more if an articulation in contact needs them
     /// (the contact solver then takes the shorter substep).
-    pub(crate) fn step_substeps(&mut self, h: f64) -> (u32, f64) {
+    pub(crate) fn step_substeps(&mut self, base: u32, h: f64) -> (u32, f64) {
         if !self.articulations.any_contact() {
-            return (self.substeps, h);
+            return (base, h);
         }
         let dt = self.settings.dt;
-        let n = self.articulations.contact_substeps(dt, self.substeps);
-        if n == self.substeps {
+        let n = self.articulations.contact_substeps(dt, base);
+        if n == base {
             return (n, h);
         }
         let h = dt / n as f64;

@@ -69,13 +69,19 @@ impl World {
 
     /// One step of `dt`: the plan's stages, substeps and all.
     pub(crate) fn one_step(&mut self, src: &KickSources) {
-        let h = self.settings.dt / self.substeps as f64;
+        let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
+        let base = match self.collision.as_mut() {
+            Some(c) => c.solver.support.rocking.substeps(self.substeps, dt, fixed),
+            None => self.substeps,
+        };
+        let h = dt / base as f64;
         // Indexing, not iterating: a stage may rebuild the plan (bodies waking
         // in the narrow phase, falling asleep in the sleep stage).
         for k in 0..self.plan.pre.len() {
             self.timed(self.plan.pre[k], h, src);
         }
-        let (substeps, h) = self.step_substeps(h);
+        let (substeps, h) = self.step_substeps(base, h);
+        self.last_substeps = substeps;
         for _ in 0..substeps {
             for k in 0..self.plan.sub.len() {
                 self.timed(self.plan.sub[k], h, src);

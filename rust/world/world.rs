@@ -22,6 +22,8 @@ pub struct World {
     pub(crate) settings: Settings,
     /// Substeps per step, resolved from the settings and the scene.
     pub(crate) substeps: u32,
+    /// Contact substeps the last step took (see `solve::rocking`).
+    pub(crate) last_substeps: u32,
     pub(crate) rotation: Rotation,
     /// Awake dynamic bodies by class (rebuilt when bodies sleep or wake).
     pub(crate) lists: BodyLists,
@@ -135,6 +137,7 @@ impl World {
             gravity: Vec3::from(scene.gravity),
             settings,
             substeps,
+            last_substeps: substeps,
             rotation,
             split: [lists.clone(), BodyLists::default()],
             split_mask: None,
@@ -186,6 +189,13 @@ impl World {
 
     pub fn substeps(&self) -> u32 {
         self.substeps
+    }
+
+    /// Contact substeps the last step took: [`Self::substeps`], or more while a
+    /// slow body rocks on its supports (`solve::rocking`) or an articulation in
+    /// contact asks for more.
+    pub fn last_substeps(&self) -> u32 {
+        self.last_substeps
     }
 
     pub fn integrator(&self) -> Integrator {

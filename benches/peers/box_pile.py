@@ -45,6 +45,8 @@ def build_rigidrs(a, pos, quat):
     for x, q in zip(pos, quat):
         scene.add_body(box, density=1000.0, position=x, orientation=q, friction=a.friction, restitution=0.0)
     kw = {} if a.threads is None else {"threads": a.threads}
+    if a.substeps is not None:
+        kw["substeps"] = a.substeps
     world = scene.build(dt=a.dt, sleep=False, **kw)
     return world.step, lambda: world.bodies.position[1:].copy()
 
@@ -74,6 +76,7 @@ def main():
     ap.add_argument("--dt", type=float, default=1 / 60)
     ap.add_argument("--friction", type=float, default=0.5)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--substeps", type=int, default=None, help="rigidrs: substeps per step (default: chosen, 4 or 16)")
     ap.add_argument("--threads", type=int, default=None, help="worker threads (rigidrs: build's threads=; rapier: 1 if unset)")
     a = ap.parse_args()
     pos, quat = initial_poses(a)
@@ -87,7 +90,7 @@ def main():
     end = read()
     print(json.dumps({
         "scene": f"box_pile_{len(pos)}", "engine": a.engine, "n": len(pos), "steps": a.steps, "dt": a.dt,
-        "variant": f"threads={a.threads}", "build_s": round(build_s, 4), "step_s": round(step_s, 4),
+        "variant": f"threads={a.threads}" + (f",substeps={a.substeps}" if a.substeps else ""), "build_s": round(build_s, 4), "step_s": round(step_s, 4),
         "steps_per_s": a.steps / step_s, "us_per_body_step": 1e6 * step_s / (a.steps * len(pos)),
         "min_z": float(end[:, 2].min()),  # < 0: a box fell through the ground
         "mean_z": float(end[:, 2].mean()),

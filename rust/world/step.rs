@@ -71,7 +71,10 @@ impl World {
     pub(crate) fn one_step(&mut self, src: &KickSources) {
         let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
         let base = match self.collision.as_mut() {
-            Some(c) => c.solver.support.rocking.substeps(self.substeps, dt, fixed),
+            Some(c) => {
+                let settling = c.solver.support.rocking.seen && c.solver.settling(&self.bodies);
+                c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling)
+            }
             None => self.substeps,
         };
         let h = dt / base as f64;

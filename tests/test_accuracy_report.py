@@ -324,3 +324,22 @@ def test_every_problem_has_two_decades_of_h_per_method() -> None:
                 assert max(hs) / min(hs) >= 99.0, (name, method.label)
     integrators = {m.integrator for m in PROBLEMS["top"]().methods(Config())}
     assert integrators == set(rr.INTEGRATORS)
+
+
+def test_tiny_report_kicked_column_comes_to_rest_at_the_default() -> None:
+    """The kicked column (reference: at rest standing, see tests/test_kicked_column.py)
+    at dt = 4/120, 4/1200 and 4/12000 s: the default (16 substeps while a slow cube
+    rocks) and a fixed 16 leave every cube below the 5 cm/s the column test takes
+    as rest (an error of 0.5 in units of the 0.1 m/s kick) with the top within
+    1 cm, and the default takes more than 4 substeps a step on average at the
+    coarsest h, where the cubes rock (a fixed 4 topples there: error 42). Not
+    every h settles by 4 s: the quick report's dt = 4/3795 s leaves a cube at
+    7 mm/s (default) and 8 cm/s (16 substeps), still rocking down (the support
+    sweeps count a contact as settled below 4 g h, which falls with h)."""
+    report = rr.accuracy(problems=["kicked_column"], config=TINY, progress=False)
+    curves = report.result("kicked_column").curves()
+    for label in ("default (4; 16 while rocking)", "16 substeps × 1"):
+        for r in curves[label]:
+            assert r.error < 0.5 and r.metrics["top"] < 0.01, (label, r.h, r.error, r.metrics)
+    assert curves["default (4; 16 while rocking)"][0].metrics["substeps_taken"] > 4.0
+    assert all(r.metrics["substeps_taken"] == 4.0 for r in curves["4 substeps × 1"])

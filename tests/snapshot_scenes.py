@@ -112,6 +112,20 @@ def meshes() -> rr.World:
     return scene.build(dt=1 / 60)
 
 
+def kicked_column() -> rr.World:
+    """Ten cubes resting 5 cm off each other's axis, kicked: they rock, so the steps
+    take the rocking substeps (16, held 0.5 s after the last rocking) across the
+    snapshot, and their state (`rust/solve/rocking.rs`) must come back with it."""
+    scene = ground()
+    rng = np.random.default_rng(3)
+    for k in range(10):
+        scene.add_body(rr.Box((0.25, 0.25, 0.25)), density=1000.0, friction=0.5, restitution=0.0,
+                       position=(0.0 if k == 0 else 0.05 * (1 if k % 2 else -1), 0.0, 0.25 + 0.5 * k),
+                       linear_velocity=tuple(rng.normal(size=3) * (0.1, 0.1, 0.0)),
+                       angular_velocity=tuple(rng.normal(size=3) * 0.1))
+    return scene.build(dt=1 / 60, sleep=False)
+
+
 SCENES: dict[str, Callable[[], rr.World]] = {
     "pile": pile,
     "pyramid": pyramid,
@@ -121,6 +135,7 @@ SCENES: dict[str, Callable[[], rr.World]] = {
     "shape_matching": shape_matching,
     "sleeping": sleeping,
     "meshes": meshes,
+    "kicked_column": kicked_column,
 }
 
 
@@ -133,6 +148,7 @@ def state(world: rr.World) -> dict[str, np.ndarray]:
     out.update({f"particles.{k}": getattr(p, k).copy() for k in ("position", "velocity", "inverse_mass", "mass", "radius")})
     out.update({f"joints.{k}": getattr(j, k).copy() for k in ("position", "velocity", "target", "force")})
     out["time"] = np.array([world.time])
+    out["last_substeps"] = np.array([world.last_substeps])
     out["steps"] = np.array([world.steps])
     return out
 

@@ -44,6 +44,7 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "chain_over_box": SCENES["chain_over_box"],
     "xpbd_joints": SCENES["xpbd_joints"],
     "cloth": SCENES["cloth"],
+    "kicked_column": SCENES["kicked_column"],
 }
 
 

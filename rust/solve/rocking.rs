@@ -22,8 +22,10 @@ use super::contact::ContactSolver;
 /// Substeps of a step while a slow body rocks.
 pub const SUBSTEPS: u32 = 16;
 
-/// Fastest speed of a rocking body's points (in substeps of gravity, `g h`;
-/// 0.65 m/s at 60 Hz and 4 substeps) for its rocking to count: a body
+/// Fastest speed of a rocking body's points (in substeps of gravity, `g h`, h
+/// the substep the step took: 0.65 m/s at 60 Hz and 4 substeps, 0.16 m/s
+/// once at 16, so that the slower rocking must go on to keep them) for its
+/// rocking to count, and of every body in contact: a body
 /// landing rocks too, at speed, and the landing's own treatment holds it
 /// ([`super::support`]). The kicked columns rock at 0.1–0.3 m/s.
 const SLOW: f64 = 16.0;

@@ -9,8 +9,9 @@ restitution leaves nothing to bounce with. Reference: the tower stands, its top
 at its resting height `a + 2 a (n − 1)` within 1 cm, every cube below 5 cm/s
 (the bars of tests/test_kicked_column.py) after 6 s.
 
-At a fixed 4 substeps 2 of these 16 towers stand at rest at 6 s (at 4 s, in a run
-whose positions differed in the last bits, 0 of 16 of ten cubes, 3 of 16 of eight): after the landings the cubes rock on each other, where the support
+At a fixed 4 substeps 2 of these 16 towers stand at rest at 6 s (at 4 s, in a
+run whose positions differed in the last bits, 0 of 16 of ten cubes, 3 of 16 of
+eight): after the landings the cubes rock on each other, where the support
 sweeps overshoot. The default takes 16 substeps while a slow cube rocks in a
 settling scene (`rust/solve/rocking.rs`): every tower stands, its top within
 1 mm. 15 of 16 are at rest below 1e-7 m/s at 6 s; one (3°, seed 6) still

@@ -7,6 +7,7 @@ from typing import Callable
 import numpy as np
 
 import rigidrs as rr
+from rigidrs.work_precision.contact import KickedColumn
 
 G = 9.81
 
@@ -113,17 +114,11 @@ def meshes() -> rr.World:
 
 
 def kicked_column() -> rr.World:
-    """Ten cubes resting 5 cm off each other's axis, kicked: they rock, so the steps
-    take the rocking substeps (16, held 0.5 s after the last rocking) across the
-    snapshot, and their state (`rust/solve/rocking.rs`) must come back with it."""
-    scene = ground()
-    rng = np.random.default_rng(3)
-    for k in range(10):
-        scene.add_body(rr.Box((0.25, 0.25, 0.25)), density=1000.0, friction=0.5, restitution=0.0,
-                       position=(0.0 if k == 0 else 0.05 * (1 if k % 2 else -1), 0.0, 0.25 + 0.5 * k),
-                       linear_velocity=tuple(rng.normal(size=3) * (0.1, 0.1, 0.0)),
-                       angular_velocity=tuple(rng.normal(size=3) * 0.1))
-    return scene.build(dt=1 / 60, sleep=False)
+    """Ten cubes resting 5 cm off each other's axis, kicked (the work-precision
+    report's scene): they rock, so the steps take the rocking substeps (16, held
+    0.5 s after the last rocking) and their state (`rust/solve/rocking.rs`) must
+    come back with a snapshot."""
+    return KickedColumn().scene(1).build(dt=1 / 60, sleep=False)
 
 
 SCENES: dict[str, Callable[[], rr.World]] = {

@@ -27,27 +27,24 @@ import numpy as np
 import pytest
 
 import rigidrs as rr
+from rigidrs.work_precision.contact import KickedColumn
 
-HALF, G, DT, MU, KICK = 0.25, 9.81, 1.0 / 60.0, 0.5, 0.1
+HALF, G, DT = 0.25, 9.81, 1.0 / 60.0
 MASS = 1000.0 * (2 * HALF) ** 3
 STEPS = 240
 REST_SPEED, STAND = 0.05, 0.01
+
 
 def offsets(n: int) -> np.ndarray:
     return np.array([0.0] + [0.05 * (1 if k % 2 else -1) for k in range(1, n)])
 
 
 def column(n: int, seed: int, substeps: int | None = None) -> rr.World:
-    rng = np.random.default_rng(seed)
-    scene = rr.Scene(gravity=(0.0, 0.0, -G))
-    scene.add_body(rr.Plane(), fixed=True, friction=MU, restitution=0.0)
-    for k, x in enumerate(offsets(n)):
-        v = rng.normal(size=3) * KICK * np.array([1.0, 1.0, 0.0])
-        w = rng.normal(size=3) * KICK
-        scene.add_body(rr.Box((HALF,) * 3), density=1000.0, position=(x, 0.0, HALF + 2 * HALF * k),
-                       linear_velocity=tuple(v), angular_velocity=tuple(w), friction=MU, restitution=0.0)
+    """The work-precision report's kicked column (the same scene) of `n` cubes kicked by `seed`."""
+    problem = KickedColumn()
+    problem.cubes, problem.seed = n, seed
     extra = {} if substeps is None else {"substeps": substeps}
-    return scene.build(dt=DT, sleep=False, **extra)
+    return problem.scene(1).build(dt=DT, sleep=False, **extra)
 
 
 def tipping_energy(n: int) -> float:

@@ -20,7 +20,7 @@ use super::block::{RowKind, Scratch};
 use super::contact::ContactSolver;
 
 /// Substeps of a step while a slow body rocks.
-pub const SUBSTEPS: u32 = 16;
+const SUBSTEPS: u32 = 16;
 
 /// Fastest speed of a rocking body's points (in substeps of gravity, `g h`, h
 /// the substep the step took: 0.65 m/s at 60 Hz and 4 substeps, 0.16 m/s
@@ -32,7 +32,7 @@ const SLOW: f64 = 16.0;
 
 /// How long (s) the steps keep [`SUBSTEPS`] after the last rocking seen: a
 /// column that stops rocking for a step is not yet at rest.
-pub const HOLD: f64 = 0.5;
+const HOLD: f64 = 0.5;
 
 /// What the velocity passes of a step saw, and how many more steps take
 /// [`SUBSTEPS`].

@@ -51,9 +51,10 @@ impl World {
         self.articulations.write_contact_velocities(&mut self.bodies);
     }
 
-    /// The substeps of this step and their length, after the narrow phase: the
-    /// world's (`h` each), or more if an articulation in contact needs them
-    /// (the contact solver then takes the shorter substep).
+    /// The substeps of this step and their length, after the narrow phase:
+    /// `base` (the world's, or the rocking substeps; `h` each), or more if an
+    /// articulation in contact needs them (the contact solver then takes the
+    /// shorter substep).
     pub(crate) fn step_substeps(&mut self, base: u32, h: f64) -> (u32, f64) {
         if !self.articulations.any_contact() {
             return (base, h);

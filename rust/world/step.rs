@@ -69,15 +69,8 @@ impl World {
 
     /// One step of `dt`: the plan's stages, substeps and all.
     pub(crate) fn one_step(&mut self, src: &KickSources) {
-        let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
-        let base = match self.collision.as_mut() {
-            Some(c) => {
-                let settling = c.solver.support.rocking.seen && c.solver.settling(&self.bodies);
-                c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling)
-            }
-            None => self.substeps,
-        };
-        let h = dt / base as f64;
+        let base = self.rocking_substeps();
+        let h = self.settings.dt / base as f64;
         // Indexing, not iterating: a stage may rebuild the plan (bodies waking
         // in the narrow phase, falling asleep in the sleep stage).
         for k in 0..self.plan.pre.len() {
@@ -98,6 +91,15 @@ impl World {
             self.timed(self.plan.post[k], h, src);
         }
         self.steps += 1;
+    }
+
+    /// The world's substeps, or more after a step in which a slow body rocked
+    /// in a settling scene (see `solve::rocking`).
+    fn rocking_substeps(&mut self) -> u32 {
+        let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
+        let Some(c) = self.collision.as_mut() else { return self.substeps };
+        let settling = c.solver.support.rocking.seen && c.solver.settling(&self.bodies);
+        c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling)
     }
 
     /// What every `step` call does once after its steps: the joint coordinates

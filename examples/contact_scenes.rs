@@ -152,4 +152,16 @@ fn main() {
         let (manifolds, points) = (c.solver.constraints.len(), c.solver.points.len());
         println!("  pairs {pairs}, touching {touching}, manifolds {manifolds}, points {points}");
     }
+    println!("  state {:016x}", state_hash(&w));
+}
+
+/// FNV-1a over the bits of every body's pose and velocities: equal for runs
+/// that end in the same state, whatever their thread count.
+fn state_hash(w: &World) -> u64 {
+    let b = &w.bodies;
+    let words = (0..b.len()).flat_map(|i| {
+        let arrays = [&b.position[i][..], &b.orientation[i][..], &b.linear_velocity[i][..], &b.angular_velocity[i][..]];
+        arrays.into_iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>()
+    });
+    words.fold(0xcbf29ce484222325, |h, x| (h ^ x).wrapping_mul(0x100000001b3))
 }

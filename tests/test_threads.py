@@ -1,6 +1,8 @@
 """``threads=``: a world gives the same bits for every thread count, on scenes of
 every kind (many islands, a pyramid, free bodies in large numbers so that the
-parallel stages run, articulations, cloth), and bad counts are refused."""
+parallel stages run, articulations, cloth, contact scenes with enough pairs that
+the narrow phase and the constraints' build run in parallel), and bad counts are
+refused."""
 from __future__ import annotations
 
 from typing import Callable
@@ -37,6 +39,40 @@ def free_bodies(n: int = 13_000) -> rr.World:
     return scene.build(dt=1 / 60)
 
 
+# Touching pairs from which the narrow phase and the constraints' build split
+# over threads (`MIN_PARALLEL_PAIRS` in narrow_phase.rs, `MIN_PARALLEL` in
+# prepare.rs).
+PARALLEL_PAIRS = 256
+
+
+def ball_pit(n: int = 500) -> rr.World:
+    """Balls poured in a box, touching from the first step: ball pairs."""
+    scene = rr.Scene(gravity=(0, 0, -G))
+    scene.add_body(rr.Plane(), fixed=True)
+    for x, y in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        scene.add_body(rr.Plane(normal=(-x, -y, 0), offset=-0.6), fixed=True)
+    rng = np.random.default_rng(2)
+    for k in range(n):
+        jitter = rng.uniform(-0.005, 0.005, size=2)
+        x, y, z = (k % 6 - 2.5) * 0.2 + jitter[0], (k // 6 % 6 - 2.5) * 0.2 + jitter[1], 0.1 + 0.199 * (k // 36)
+        scene.add_body(rr.Sphere(0.1), density=1000.0, position=(x, y, z))
+    return scene.build(dt=1 / 60, sleep=False)
+
+
+def box_heap(n: int = 400) -> rr.World:
+    """Cubes tilted at random, dropped in layers onto each other and the ground:
+    box manifolds that appear, vanish and keep their geometry, and support blocks."""
+    scene = rr.Scene(gravity=(0, 0, -G))
+    scene.add_body(rr.Plane(), fixed=True)
+    rng = np.random.default_rng(3)
+    for k in range(n):
+        axis = rng.normal(size=3)
+        q = np.append(np.sin(0.05) * axis / np.linalg.norm(axis), np.cos(0.05))
+        x, y, z = (k % 10) * 0.23, (k // 10 % 10) * 0.23, 0.12 + 0.23 * (k // 100)
+        scene.add_body(rr.Box((0.1, 0.1, 0.1)), density=500.0, position=(x, y, z), orientation=q)
+    return scene.build(dt=1 / 60, sleep=False)
+
+
 BUILDERS: dict[str, Callable[[], rr.World]] = {
     "stacks": stacks,
     "pyramid": SCENES["pyramid"],
@@ -45,7 +81,11 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "xpbd_joints": SCENES["xpbd_joints"],
     "cloth": SCENES["cloth"],
     "kicked_column": SCENES["kicked_column"],
+    "ball_pit": ball_pit,
+    "box_heap": box_heap,
+    "many_stacks": lambda: stacks(n=100),
 }
+PARALLEL_CONTACTS = ("ball_pit", "box_heap", "many_stacks")
 
 
 @pytest.mark.parametrize("name", list(BUILDERS))
@@ -57,6 +97,10 @@ def test_every_thread_count_gives_the_same_bits(name: str) -> None:
         assert world.threads == threads
         world.step(30)
         runs.append(state(world))
+        if name in PARALLEL_CONTACTS:
+            c = world.contacts()
+            pairs = {(a, b) for a, b in zip(c["body_a"], c["body_b"])}
+            assert len(pairs) >= PARALLEL_PAIRS, f"{len(pairs)} touching pairs: the parallel stages would not run"
     assert_same(runs[0], runs[1])
     assert_same(runs[0], runs[2])
 

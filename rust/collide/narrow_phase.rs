@@ -99,6 +99,10 @@ impl PairState {
 /// step's by a merge, without hashing, and the merge moves 12-byte entries, not
 /// pair states (moving the states was 6 % of a ball pit's step). `touching`:
 /// the slots of the pairs with contact points this step, in key order.
+///
+/// The pairs of a step are matched first, then stepped, each on its own state
+/// (in parallel when asked: a pair's arithmetic does not depend on the others,
+/// so every thread count gives the same bits), then the ones apart are freed.
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NarrowPhase {
     pub pairs: Vec<PairState>,
@@ -106,7 +110,31 @@ pub struct NarrowPhase {
     free: Vec<u32>,
     pub touching: Vec<u32>,
     spare: Vec<((u32, u32), u32)>,
+    /// Per slot, during `update`: what stepping the pair found (`Found`).
+    #[serde(skip)]
+    found: Vec<Found>,
 }
+
+/// What a step found for the pair in a slot.
+#[derive(Clone, Copy, Default, PartialEq)]
+enum Found {
+    /// Not a candidate this step: kept as it was (asleep) or free.
+    #[default]
+    Idle,
+    /// A candidate, to be stepped.
+    Due,
+    /// Further apart than the prediction: the pair ends.
+    Apart,
+    /// Within reach, no point within the prediction.
+    Near,
+    Touching,
+}
+
+/// Candidate pairs below which the narrow phase runs on one thread: a pair takes
+/// 0.3-2 µs, handing work to the pool ~10 µs.
+pub const MIN_PARALLEL_PAIRS: usize = 256;
+/// Pairs handed to a thread at a time.
+const PAIRS_PER_TASK: usize = 64;
 
 /// This step's prediction and manifolds of a pair: `None` if the balls around the
 /// two bodies that hold their shapes are further apart than the prediction (the
@@ -135,42 +163,62 @@ pub struct Prediction {
 impl NarrowPhase {
     /// Updates the manifolds of `candidates` (sorted collider pairs). Pairs that are
     /// no longer candidates are dropped, except those `dormant(i, j)` (both bodies
-    /// asleep), whose warm-start data waits for them to wake.
+    /// asleep), whose warm-start data waits for them to wake. `parallel`: step the
+    /// pairs with rayon's parallel iterators (on the pool the caller installed).
     pub fn update(
         &mut self,
         colliders: &[Collider],
         bodies: &Bodies,
         candidates: &[(u32, u32)],
         pred: &Prediction,
+        parallel: bool,
         dormant: impl Fn(u32, u32) -> bool,
     ) {
         self.touching.clear();
-        // While the candidates are the pairs kept from the last step, in order (a
-        // scene that moves in place), each is updated where it lies.
-        let mut kept = 0;
-        for (&key, &(k, slot)) in candidates.iter().zip(self.order.iter()) {
-            if k != key {
-                break;
+        self.found.clear();
+        self.found.resize(self.pairs.len(), Found::Idle);
+        self.match_candidates(candidates, dormant);
+        let step = |(state, found): (&mut PairState, &mut Found)| {
+            if *found == Found::Due {
+                *found = match step_pair(state, colliders, bodies, pred) {
+                    None => Found::Apart,
+                    Some(false) => Found::Near,
+                    Some(true) => Found::Touching,
+                };
             }
-            match step_pair(&mut self.pairs[slot as usize], colliders, bodies, pred) {
-                None => break,
-                Some(touching) => {
-                    if touching {
-                        self.touching.push(slot);
-                    }
-                    kept += 1;
-                }
+        };
+        if parallel {
+            use rayon::prelude::*;
+            self.pairs.par_iter_mut().zip(self.found.par_iter_mut()).with_min_len(PAIRS_PER_TASK).for_each(step);
+        } else {
+            self.pairs.iter_mut().zip(self.found.iter_mut()).for_each(step);
+        }
+        // A pair apart is not kept: it carries warm-start data only for points
+        // within its prediction.
+        let mut order = std::mem::take(&mut self.order);
+        order.retain(|&(_, slot)| match self.found[slot as usize] {
+            Found::Apart => {
+                self.release(slot);
+                false
             }
-        }
-        if kept == candidates.len() && kept == self.order.len() {
-            return;
-        }
-        // The rest by a merge of the remaining candidates with the remaining pairs.
+            Found::Touching => {
+                self.touching.push(slot);
+                true
+            }
+            _ => true,
+        });
+        self.order = order;
+    }
+
+    /// Matches the candidates to the kept pairs by a merge: the order becomes the
+    /// candidates (claiming a slot for each new one, marked due) and the kept
+    /// dormant pairs; the others are freed.
+    fn match_candidates(&mut self, candidates: &[(u32, u32)], dormant: impl Fn(u32, u32) -> bool) {
         let mut last = std::mem::take(&mut self.spare);
         last.clear();
-        last.extend(self.order.drain(kept..));
+        std::mem::swap(&mut last, &mut self.order);
         let mut old = last.iter().copied().peekable();
-        for &key in &candidates[kept..] {
+        for &key in candidates {
             let mut found = None;
             while let Some((k, slot)) = old.next_if(|o| o.0 <= key) {
                 if k == key {
@@ -180,17 +228,11 @@ impl NarrowPhase {
                 }
             }
             let slot = found.unwrap_or_else(|| self.claim(key));
-            // A pair apart is not kept: it carries warm-start data only for points
-            // within its prediction.
-            match step_pair(&mut self.pairs[slot as usize], colliders, bodies, pred) {
-                None => self.release(slot),
-                Some(touching) => {
-                    if touching {
-                        self.touching.push(slot);
-                    }
-                    self.order.push((key, slot));
-                }
+            self.order.push((key, slot));
+            if self.found.len() < self.pairs.len() {
+                self.found.resize(self.pairs.len(), Found::Idle);
             }
+            self.found[slot as usize] = Found::Due;
         }
         for (k, slot) in old {
             self.keep_if(dormant(k.0, k.1), k, slot);

@@ -13,10 +13,9 @@ use super::friction::Patch;
 use super::soft::Softness;
 use super::solver_body::{Gap, Pair, SolverBody};
 use crate::body::Bodies;
-use crate::collide::collider::Collider;
 use crate::collide::corners::Corners;
-use crate::collide::material::{combine, ContactMaterial};
-use crate::collide::narrow_phase::{ContactReport, Contacts, NarrowPhase};
+use crate::collide::material::ContactMaterial;
+use crate::collide::narrow_phase::{ContactReport, NarrowPhase};
 use nalgebra::Isometry3;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
@@ -106,7 +105,7 @@ pub struct Point {
 }
 
 /// The points of one manifold, sharing bodies, normal and material.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Constraint {
     /// Solver-body indices (0: fixed).
     pub s1: u32,
@@ -195,72 +194,6 @@ impl ContactSolver {
         Self { slot: vec![0; n_bodies], touching: vec![false; n_bodies], settings, ..Default::default() }
     }
 
-    /// The solver index of world body `i`, creating its entry if it moves.
-    fn enter(&mut self, b: &Bodies, i: usize) -> u32 {
-        if self.slot[i] != 0 {
-            return self.slot[i];
-        }
-        if !b.moving(i) {
-            return 0;
-        }
-        let dynamic = b.awake(i);
-        let [x, y, z] = b.inv_inertia[i];
-        let iso = if !dynamic {
-            Some(0.0)
-        } else if x == y && y == z {
-            Some(x)
-        } else {
-            None
-        };
-        let inv_i = match iso {
-            Some(s) => Mat3::from_diagonal_element(s),
-            None => self.reference_inv_inertia(b, i),
-        };
-        self.bodies.push(SolverBody {
-            inv_m: if dynamic { b.inv_mass[i] } else { 0.0 },
-            inv_i,
-            iso,
-            body: i as u32,
-            dynamic,
-            ..Default::default()
-        });
-        self.p0.push(Vec3::from(b.position[i]));
-        self.q0.push(b.q(i));
-        self.touching[i] = dynamic;
-        self.slot[i] = (self.bodies.len() - 1) as u32;
-        self.slot[i]
-    }
-
-    /// Builds the constraints of this step from the touching pairs.
-    pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, h: f64, gravity: &Vec3) {
-        for s in &self.bodies[self.bodies.len().min(1)..] {
-            self.slot[s.body as usize] = 0;
-            self.touching[s.body as usize] = false;
-        }
-        self.set_aside();
-        self.bodies.push(SolverBody::default());
-        self.p0.clear();
-        self.q0.clear();
-        self.p0.push(Vec3::zeros());
-        self.q0.push(Quat::identity());
-        self.substeps_done = 0;
-        self.gathered = false;
-        let hertz = self.settings.contact_hertz.min(0.25 / h);
-        self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
-        self.inv_h = 1.0 / h;
-        for &slot in &narrow.touching {
-            let state = &narrow.pairs[slot as usize];
-            let ctx = self.pair_context(colliders, b, state.key, slot);
-            for (m, contacts) in state.contacts() {
-                self.push_manifold(&contacts, &ctx, m, true, state.prediction);
-            }
-        }
-        let g = gravity.norm();
-        let up = if g > 0.0 { -gravity / g } else { Vec3::zeros() };
-        self.plan_support(&up, g, b);
-        self.plan_links();
-    }
-
     /// Changes the substep of this step to `h` (before its first substep): the
     /// soft contacts' constants and what depends on `1/h`.
     pub fn set_substep(&mut self, h: f64) {
@@ -268,125 +201,6 @@ impl ContactSolver {
         self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
         self.support.residual *= h * self.inv_h;
         self.inv_h = 1.0 / h;
-    }
-
-    /// What the constraints of a collider pair share, at the bodies' current poses.
-    pub(crate) fn pair_context(&mut self, colliders: &[Collider], b: &Bodies, pair: (u32, u32), slot: u32) -> PairContext {
-        let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
-        let (b1, b2) = (c1.body as usize, c2.body as usize);
-        let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
-        let ball = |c: &Collider| c.shape.shape_type() == parry3d_f64::shape::ShapeType::Ball;
-        self.bodies[s1 as usize].round = s1 != 0 && ball(c1);
-        self.bodies[s2 as usize].round = s2 != 0 && ball(c2);
-        PairContext {
-            s1,
-            s2,
-            b1: b1 as u32,
-            b2: b2 as u32,
-            pose1: c1.pose(b),
-            pose2: c2.pose(b),
-            x1: Vec3::from(b.position[b1]),
-            x2: Vec3::from(b.position[b2]),
-            material: combine(&c1.material, &c2.material),
-            corners: [c1.corners, c2.corners],
-            pair,
-            slot,
-        }
-    }
-
-    /// Appends the constraint of one parry manifold, of its points no further
-    /// apart than `reach` (m; nothing if none is); `warm`: start from the impulses
-    /// the manifold carries.
-    pub(crate) fn push_manifold(&mut self, manifold: &Contacts, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
-        if !manifold.points.iter().any(|tp| tp.dist <= reach) {
-            return;
-        }
-        let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
-        let sub2 = manifold.subshape_pos2.map_or(ctx.pose2, |s| ctx.pose2 * s);
-        let n = sub1.rotation * manifold.local_n1;
-        let start = self.points.len() as u32;
-        for (k, tp) in manifold.points.iter().enumerate().filter(|(_, tp)| tp.dist <= reach) {
-            let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
-            let (r1, r2) = (mid - ctx.x1, mid - ctx.x2);
-            let p = Point {
-                anchor1: r1,
-                anchor2: r2,
-                r1,
-                r2,
-                base_separation: tp.dist - n.dot(&(r2 - r1)),
-                separation: tp.dist,
-                point: mid,
-                normal_impulse: if warm { tp.data.normal_impulse } else { 0.0 },
-                manifold_point: k as u32,
-                corner: match (ctx.corners[0].at(tp.fid1, &tp.local_p1), ctx.corners[1].at(tp.fid2, &tp.local_p2)) {
-                    (true, false) => 1,
-                    (false, true) => 2,
-                    _ => 0,
-                },
-                ..Default::default()
-            };
-            self.points.push(p);
-        }
-        // The prepare pass (warm) may keep last step's geometry; an impact's
-        // contact is computed afresh.
-        let kept = if warm {
-            let kept = self.keepable(ctx, index, &n, start as usize);
-            self.previous.kept.push(kept.map_or(super::reuse::NONE, |k| k as u32));
-            kept
-        } else {
-            None
-        };
-        let (n, t1, t2, kept_patch) = match kept {
-            Some(oi) => {
-                let (n, t1, t2, patch) = self.keep(oi, start as usize);
-                (n, t1, t2, Some(patch))
-            }
-            None => {
-                let t1 = orthonormal(&n);
-                let (b1, b2) = (&self.bodies[ctx.s1 as usize], &self.bodies[ctx.s2 as usize]);
-                for p in &mut self.points[start as usize..] {
-                    normal_mass(p, b1, b2, &n);
-                }
-                (n, t1, n.cross(&t1), None)
-            }
-        };
-        let constraint = Constraint {
-            s1: ctx.s1,
-            s2: ctx.s2,
-            normal: n,
-            t1,
-            t2,
-            friction: ctx.material.friction,
-            static_friction: ctx.material.static_friction,
-            restitution: ctx.material.restitution,
-            start,
-            len: self.points.len() as u32 - start,
-            b1: ctx.b1,
-            b2: ctx.b2,
-            pair: ctx.pair,
-            slot: ctx.slot,
-            manifold: index,
-            fresh: !warm || manifold.points.iter().all(|tp| tp.data.normal_impulse == 0.0),
-            lower: 0,
-            group: 0,
-            generalized: (ctx.s1 != 0 && self.is_link(ctx.b1)) || (ctx.s2 != 0 && self.is_link(ctx.b2)),
-            settled: true,
-            landing: false,
-            as_built: true,
-        };
-        let mut patch = kept_patch.unwrap_or_else(|| Patch::new(&constraint, &self.points[start as usize..], &self.bodies));
-        if warm {
-            // Each point carries its share of the patch's impulses: summed, they
-            // survive points that appear or vanish between steps.
-            let ft: Vec3 = manifold.points.iter().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
-            patch.impulse = [ft.dot(&t1), ft.dot(&t2)];
-            if patch.shape.lever > 0.0 {
-                patch.twist = manifold.points.iter().map(|tp| tp.data.twist_impulse).sum();
-            }
-            patch.sliding = manifold.points.iter().any(|tp| tp.data.sliding);
-        }
-        self.constraints.push(constraint);
-        self.patches.push(patch);
     }
 
     /// Arms and effective masses of one constraint's points at the current poses.

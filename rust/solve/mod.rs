@@ -12,6 +12,7 @@ pub mod impulse;
 pub mod islands;
 pub mod limit_surface;
 pub mod position;
+pub mod prepare;
 pub mod projected_gauss_seidel;
 pub mod quiet;
 pub mod support;

@@ -57,13 +57,74 @@ impl Previous {
         std::mem::swap(&mut self.k, &mut s.k);
         std::mem::swap(&mut self.factor, &mut s.factor);
     }
+
+    /// The last step's constraint of manifold `index` of `pair`, if there was
+    /// one. Asked in pair order, as the constraints were built: a cursor walks
+    /// them.
+    pub(crate) fn find(&mut self, pair: (u32, u32), index: u32) -> Option<usize> {
+        let key = (pair, index);
+        while self.constraints.get(self.cursor).is_some_and(|o| (o.pair, o.manifold) < key) {
+            self.cursor += 1;
+        }
+        let o = self.constraints.get(self.cursor)?;
+        ((o.pair, o.manifold) == key).then_some(self.cursor)
+    }
+}
+
+/// Whether the geometry of the last step's constraint `oi` holds for `points`,
+/// just laid out with normal `n`: the same bodies, points and normal within
+/// [`KEEP_EPS`].
+#[inline]
+pub(crate) fn holds(p: &Previous, bodies: &[SolverBody], oi: usize, ctx: &PairContext, n: &Vec3, points: &[Point]) -> bool {
+    let o = &p.constraints[oi];
+    if !o.as_built || o.len as usize != points.len() || (o.normal - n).norm() > KEEP_EPS {
+        return false;
+    }
+    let same = |os: u32, ns: u32| {
+        let (a, b) = (&p.bodies[os as usize], &bodies[ns as usize]);
+        (os == 0) == (ns == 0) && a.inv_m == b.inv_m && a.inv_i == b.inv_i && a.dynamic == b.dynamic
+    };
+    if !same(o.s1, ctx.s1) || !same(o.s2, ctx.s2) {
+        return false;
+    }
+    let old = &p.points[o.start as usize..(o.start + o.len) as usize];
+    let moved = |a: &Point, b: &Point| {
+        a.manifold_point != b.manifold_point
+            || a.corner != b.corner
+            || (a.anchor1 - b.anchor1).norm() > KEEP_EPS
+            || (a.anchor2 - b.anchor2).norm() > KEEP_EPS
+    };
+    !points.iter().zip(old).any(|(a, b)| moved(a, b)) && touching(points) == touching(old)
+}
+
+/// Takes the geometry of the last step's constraint `oi` for `points`; returns
+/// its normal and tangents (its patch: [`Patch::with_geometry_of`]).
+#[inline]
+pub(crate) fn keep(p: &Previous, oi: usize, points: &mut [Point]) -> (Vec3, Vec3, Vec3) {
+    let o = &p.constraints[oi];
+    let old = &p.points[o.start as usize..(o.start + o.len) as usize];
+    for (p, q) in points.iter_mut().zip(old) {
+        p.anchor1 = q.anchor1;
+        p.anchor2 = q.anchor2;
+        p.r1 = q.anchor1;
+        p.r2 = q.anchor2;
+        p.rn1 = q.rn1;
+        p.rn2 = q.rn2;
+        p.irn1 = q.irn1;
+        p.irn2 = q.irn2;
+        p.normal_mass = q.normal_mass;
+        p.base_separation = p.separation - o.normal.dot(&(q.anchor2 - q.anchor1));
+    }
+    (o.normal, o.t1, o.t2)
 }
 
 /// Marks a constraint whose geometry was computed afresh.
 pub const NONE: u32 = u32::MAX;
 
 impl ContactSolver {
-    /// Sets this step's constraints and blocks aside as the last step's.
+    /// Sets this step's constraints and blocks aside as the last step's. The
+    /// arrays they swap with (two steps old) keep their length: the build
+    /// clears them or overwrites them whole.
     pub(crate) fn set_aside(&mut self) {
         let p = &mut self.previous;
         // Forget the blocks of two steps ago before their bodies go.
@@ -85,9 +146,6 @@ impl ContactSolver {
         }
         p.cursor = 0;
         p.kept.clear();
-        self.constraints.clear();
-        self.points.clear();
-        self.patches.clear();
         self.bodies.clear();
     }
 
@@ -102,59 +160,6 @@ impl ContactSolver {
             o[i] = q;
         }
         super::contact::inv_inertia_at(b, i, &o[i])
-    }
-
-    /// The last step's constraint of manifold `index` of the pair, if its
-    /// geometry holds for the points from `start` just laid out with normal `n`.
-    pub(crate) fn keepable(&mut self, ctx: &PairContext, index: u32, n: &Vec3, start: usize) -> Option<usize> {
-        let p = &mut self.previous;
-        let key = (ctx.pair, index);
-        while p.constraints.get(p.cursor).is_some_and(|o| (o.pair, o.manifold) < key) {
-            p.cursor += 1;
-        }
-        let o = p.constraints.get(p.cursor)?;
-        let points = &self.points[start..];
-        if (o.pair, o.manifold) != key || !o.as_built || o.len as usize != points.len() || (o.normal - n).norm() > KEEP_EPS {
-            return None;
-        }
-        let same = |os: u32, ns: u32| {
-            let (a, b) = (&p.bodies[os as usize], &self.bodies[ns as usize]);
-            (os == 0) == (ns == 0) && a.inv_m == b.inv_m && a.inv_i == b.inv_i && a.dynamic == b.dynamic
-        };
-        if !same(o.s1, ctx.s1) || !same(o.s2, ctx.s2) {
-            return None;
-        }
-        let old = &p.points[o.start as usize..(o.start + o.len) as usize];
-        let moved = |a: &Point, b: &Point| {
-            a.manifold_point != b.manifold_point
-                || a.corner != b.corner
-                || (a.anchor1 - b.anchor1).norm() > KEEP_EPS
-                || (a.anchor2 - b.anchor2).norm() > KEEP_EPS
-        };
-        if points.iter().zip(old).any(|(a, b)| moved(a, b)) || touching(points) != touching(old) {
-            return None;
-        }
-        Some(p.cursor)
-    }
-
-    /// Takes the geometry of the last step's constraint `oi` for the points
-    /// from `start`; returns its normal and tangents and its patch.
-    pub(crate) fn keep(&mut self, oi: usize, start: usize) -> (Vec3, Vec3, Vec3, Patch) {
-        let o = &self.previous.constraints[oi];
-        let old = &self.previous.points[o.start as usize..(o.start + o.len) as usize];
-        for (p, q) in self.points[start..].iter_mut().zip(old) {
-            p.anchor1 = q.anchor1;
-            p.anchor2 = q.anchor2;
-            p.r1 = q.anchor1;
-            p.r2 = q.anchor2;
-            p.rn1 = q.rn1;
-            p.rn2 = q.rn2;
-            p.irn1 = q.irn1;
-            p.irn2 = q.irn2;
-            p.normal_mass = q.normal_mass;
-            p.base_separation = p.separation - o.normal.dot(&(q.anchor2 - q.anchor1));
-        }
-        (o.normal, o.t1, o.t2, Patch::with_geometry_of(&self.previous.patches[oi]))
     }
 
     /// Takes `J`, `K`, its factor and `Q` of block `g` from the last step's

@@ -9,11 +9,12 @@ use super::Settings;
 use crate::body::{BodyKind, Bodies};
 use crate::collide::broad_phase::{Aabb, HalfSpace, SweepAndPrune};
 use crate::collide::ccd::{self, Start};
-use crate::collide::narrow_phase::{supported, ContactReport, NarrowPhase, Prediction};
+use crate::collide::narrow_phase::{supported, ContactReport, NarrowPhase, Prediction, MIN_PARALLEL_PAIRS};
 use crate::collide::{Collider, Filter};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::solve::islands::Islands;
+use crate::solve::prepare::Preparation;
 use crate::solve::ContactSolver;
 
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -223,17 +224,27 @@ impl Collision {
 
     /// Manifolds of the candidates, bodies woken by touch, and the constraints of
     /// this step. Returns whether a body woke.
-    pub fn narrow_phase(&mut self, b: &mut Bodies, dt: f64, h: f64, gravity: &Vec3) -> bool {
+    pub fn narrow_phase(&mut self, b: &mut Bodies, step: &NarrowStep) -> bool {
+        let parallel = step.threads > 1 && self.candidates.len() >= MIN_PARALLEL_PAIRS;
+        let prep = Preparation { h: step.h, gravity: step.gravity, parallel };
         if self.idle {
             self.narrow.touching.clear();
-            self.solver.prepare(&self.narrow, &self.colliders, b, h, gravity);
+            self.solver.prepare(&self.narrow, &self.colliders, b, &prep);
             return false;
         }
-        let pred = Prediction { margin: self.margin, dt, gravity: *gravity };
+        let pred = Prediction { margin: self.margin, dt: step.dt, gravity: step.gravity };
         let cols = &self.colliders;
-        self.narrow.update(cols, b, &self.candidates, &pred, |i, j| {
-            !b.moving(cols[i as usize].body as usize) && !b.moving(cols[j as usize].body as usize)
-        });
+        let (narrow, candidates, shared) = (&mut self.narrow, &self.candidates, &*b);
+        let mut update = |parallel: bool| {
+            narrow.update(cols, shared, candidates, &pred, parallel, |i, j| {
+                !shared.moving(cols[i as usize].body as usize) && !shared.moving(cols[j as usize].body as usize)
+            })
+        };
+        if parallel {
+            super::threads::install(step.threads, || update(true));
+        } else {
+            update(false);
+        }
         let mut woke = false;
         for &k in &self.narrow.touching {
             let (i, j) = self.narrow.pairs[k as usize].key;
@@ -245,7 +256,7 @@ impl Collision {
                 woke |= self.islands.wake(b, bi);
             }
         }
-        self.solver.prepare(&self.narrow, cols, b, h, gravity);
+        self.solver.prepare(&self.narrow, cols, b, &prep);
         woke
     }
 
@@ -263,6 +274,17 @@ impl Collision {
     pub fn reports(&self) -> Vec<ContactReport> {
         self.solver.reports()
     }
+}
+
+/// What the narrow phase of a step needs to know.
+pub struct NarrowStep {
+    /// The step (s), over which contacts are predicted.
+    pub dt: f64,
+    /// The contact substep (s) the solver is prepared for.
+    pub h: f64,
+    pub gravity: Vec3,
+    /// Worker threads the pairs may be stepped on (same bits for every count).
+    pub threads: usize,
 }
 
 /// Rotation per step (rad) above which a body's box is that of its reach.
@@ -390,7 +412,8 @@ mod tests {
         let mut w = balls([0.0, 0.0, -9.81], &[([0.0; 3], [0.0; 3], true), ([0.0, 0.0, 0.25], [0.0, 0.0, -10.0], false)]);
         let c = w.collision.as_mut().unwrap();
         c.broad_phase(&w.bodies, 1.0 / 60.0);
-        c.narrow_phase(&mut w.bodies, 1.0 / 60.0, 1.0 / 240.0, &nalgebra::Vector3::new(0.0, 0.0, -9.81));
+        let step = super::NarrowStep { dt: 1.0 / 60.0, h: 1.0 / 240.0, gravity: nalgebra::Vector3::new(0.0, 0.0, -9.81), threads: 1 };
+        c.narrow_phase(&mut w.bodies, &step);
         assert_eq!(c.narrow.touching.len(), 1);
     }
 

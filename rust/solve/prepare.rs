@@ -1,0 +1,385 @@
+//! A step's constraints built from the narrow phase's manifolds, in two
+//! passes: one in pair order that gives each manifold its solver bodies, its
+//! place among the points and constraints, and the last step's constraint it may
+//! keep the geometry of; then one that lays out the points, arms, masses and
+//! patch of each manifold in its place. A manifold's arithmetic in the second
+//! depends on nothing built beside it, so it may run over threads and every
+//! thread count gives the same bits (a resting pyramid of 820 boxes spent a
+//! third of its step here).
+
+use rayon::prelude::*;
+
+use super::contact::{normal_mass, orthonormal, Constraint, ContactSolver, PairContext, Point};
+use super::friction::Patch;
+use super::reuse::{self, Previous};
+use super::soft::Softness;
+use super::solver_body::SolverBody;
+use crate::body::Bodies;
+use crate::collide::collider::Collider;
+use crate::collide::material::combine;
+use crate::collide::narrow_phase::{Contacts, NarrowPhase};
+use crate::math::{Mat3, Quat, Vec3};
+
+/// Touching pairs below which the constraints are built on one thread.
+const MIN_PARALLEL: usize = 256;
+/// Manifolds handed to a thread at a time.
+const PER_TASK: usize = 32;
+
+/// What building a step's constraints needs to know.
+pub struct Preparation {
+    /// The contact substep (s).
+    pub h: f64,
+    /// Gravity (m/s²): the support sweeps follow it.
+    pub gravity: Vec3,
+    /// Lay the constraints out with rayon's parallel iterators.
+    pub parallel: bool,
+}
+
+/// Where one manifold's constraint goes, decided by the first pass.
+struct Job {
+    /// Its pair's context in the pass's list, its manifold index in the pair.
+    ctx: u32,
+    manifold: u32,
+    /// Its points: `len` from `start` in the solver's points.
+    start: u32,
+    len: u32,
+    /// The last step's constraint of the same manifold, if any.
+    previous: Option<usize>,
+    generalized: bool,
+}
+
+/// What the second pass reads.
+struct Shared<'a> {
+    bodies: &'a [SolverBody],
+    previous: &'a Previous,
+}
+
+impl ContactSolver {
+    /// Builds the constraints of this step from the touching pairs (in
+    /// parallel on the pool the caller installed, if `step.parallel`).
+    pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, step: &Preparation) {
+        self.start_step(step.h);
+        if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
+            let (contexts, jobs) = self.place(narrow, colliders, b);
+            self.lay_out(narrow, &contexts, &jobs);
+        } else {
+            self.constraints.clear();
+            self.points.clear();
+            self.patches.clear();
+            // One pass: each manifold's points are written once, while in cache.
+            for &slot in &narrow.touching {
+                let state = &narrow.pairs[slot as usize];
+                let ctx = self.pair_context(colliders, b, state.key, slot);
+                for (m, contacts) in state.contacts() {
+                    self.push_manifold(&contacts, &ctx, m, true, state.prediction);
+                }
+            }
+        }
+        let g = step.gravity.norm();
+        let up = if g > 0.0 { -step.gravity / g } else { Vec3::zeros() };
+        self.plan_support(&up, g, b);
+        self.plan_links();
+    }
+
+    /// Sets last step's constraints aside and starts this step's with the
+    /// fixed world as solver body 0.
+    fn start_step(&mut self, h: f64) {
+        for s in &self.bodies[self.bodies.len().min(1)..] {
+            self.slot[s.body as usize] = 0;
+            self.touching[s.body as usize] = false;
+        }
+        self.set_aside();
+        self.bodies.push(SolverBody::default());
+        self.p0.clear();
+        self.q0.clear();
+        self.p0.push(Vec3::zeros());
+        self.q0.push(Quat::identity());
+        self.substeps_done = 0;
+        self.gathered = false;
+        let hertz = self.settings.contact_hertz.min(0.25 / h);
+        self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
+        self.inv_h = 1.0 / h;
+    }
+
+    /// The first pass, in pair order: solver bodies, and a job per manifold
+    /// with a point within its pair's prediction.
+    fn place(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> (Vec<PairContext>, Vec<Job>) {
+        let mut contexts = Vec::with_capacity(narrow.touching.len());
+        let mut jobs = Vec::with_capacity(narrow.touching.len());
+        let mut start = 0;
+        for &slot in &narrow.touching {
+            let state = &narrow.pairs[slot as usize];
+            let ctx = self.pair_context(colliders, b, state.key, slot);
+            let generalized = self.generalized(&ctx);
+            for (m, contacts) in state.contacts() {
+                let len = within(&contacts, state.prediction);
+                if len == 0 {
+                    continue;
+                }
+                let previous = self.previous.find(ctx.pair, m);
+                jobs.push(Job { ctx: contexts.len() as u32, manifold: m, start, len, previous, generalized });
+                start += len;
+            }
+            contexts.push(ctx);
+        }
+        (contexts, jobs)
+    }
+
+    /// The second pass, over threads: each job's points, constraint and patch
+    /// in its place.
+    fn lay_out(&mut self, narrow: &NarrowPhase, contexts: &[PairContext], jobs: &[Job]) {
+        let points = jobs.last().map_or(0, |j| (j.start + j.len) as usize);
+        // Every slot is written below: only those beyond the arrays' length
+        // (two steps old) are zeroed first (zeroing them all was 5 % of a
+        // pyramid's step).
+        fit(&mut self.points, points);
+        fit(&mut self.constraints, jobs.len());
+        fit(&mut self.patches, jobs.len());
+        self.previous.kept.resize(jobs.len(), reuse::NONE);
+        let (mut rest, mut parts) = (&mut self.points[..], Vec::with_capacity(jobs.len()));
+        for j in jobs {
+            let (part, tail) = std::mem::take(&mut rest).split_at_mut(j.len as usize);
+            parts.push(part);
+            rest = tail;
+        }
+        let mut kept = std::mem::take(&mut self.previous.kept);
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous };
+        let one = |((((j, pts), c), f), k): ((((&Job, &mut &mut [Point]), &mut Constraint), &mut Patch), &mut u32)| {
+            let ctx = &contexts[j.ctx as usize];
+            let state = &narrow.pairs[ctx.slot as usize];
+            let Some((_, manifold)) = state.contacts().find(|(m, _)| *m == j.manifold) else { return };
+            let src = Source::new(ctx, &manifold, true, state.prediction);
+            let mut slots = pts.iter_mut();
+            src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
+            let (constraint, kept) = shared.constraint(j, &src, pts);
+            *f = shared.patch(&constraint, kept, &src, pts);
+            *c = constraint;
+            *k = kept.map_or(reuse::NONE, |o| o as u32);
+        };
+        let (constraints, patches) = (&mut self.constraints, &mut self.patches);
+        let each = jobs.par_iter().zip(parts.par_iter_mut()).zip(constraints.par_iter_mut());
+        each.zip(patches.par_iter_mut()).zip(kept.par_iter_mut()).with_min_len(PER_TASK).for_each(one);
+        self.previous.kept = kept;
+    }
+
+    /// The solver index of world body `i`, creating its entry if it moves.
+    fn enter(&mut self, b: &Bodies, i: usize) -> u32 {
+        if self.slot[i] != 0 {
+            return self.slot[i];
+        }
+        if !b.moving(i) {
+            return 0;
+        }
+        let dynamic = b.awake(i);
+        let [x, y, z] = b.inv_inertia[i];
+        let iso = if !dynamic {
+            Some(0.0)
+        } else if x == y && y == z {
+            Some(x)
+        } else {
+            None
+        };
+        let inv_i = match iso {
+            Some(s) => Mat3::from_diagonal_element(s),
+            None => self.reference_inv_inertia(b, i),
+        };
+        self.bodies.push(SolverBody {
+            inv_m: if dynamic { b.inv_mass[i] } else { 0.0 },
+            inv_i,
+            iso,
+            body: i as u32,
+            dynamic,
+            ..Default::default()
+        });
+        self.p0.push(Vec3::from(b.position[i]));
+        self.q0.push(b.q(i));
+        self.touching[i] = dynamic;
+        self.slot[i] = (self.bodies.len() - 1) as u32;
+        self.slot[i]
+    }
+
+    /// Whether a pair's constraints touch an articulated link.
+    fn generalized(&self, ctx: &PairContext) -> bool {
+        (ctx.s1 != 0 && self.is_link(ctx.b1)) || (ctx.s2 != 0 && self.is_link(ctx.b2))
+    }
+
+    /// What the constraints of a collider pair share, at the bodies' current poses.
+    pub(crate) fn pair_context(&mut self, colliders: &[Collider], b: &Bodies, pair: (u32, u32), slot: u32) -> PairContext {
+        let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
+        let (b1, b2) = (c1.body as usize, c2.body as usize);
+        let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
+        let ball = |c: &Collider| c.shape.shape_type() == parry3d_f64::shape::ShapeType::Ball;
+        self.bodies[s1 as usize].round = s1 != 0 && ball(c1);
+        self.bodies[s2 as usize].round = s2 != 0 && ball(c2);
+        PairContext {
+            s1,
+            s2,
+            b1: b1 as u32,
+            b2: b2 as u32,
+            pose1: c1.pose(b),
+            pose2: c2.pose(b),
+            x1: Vec3::from(b.position[b1]),
+            x2: Vec3::from(b.position[b2]),
+            material: combine(&c1.material, &c2.material),
+            corners: [c1.corners, c2.corners],
+            pair,
+            slot,
+        }
+    }
+
+    /// Appends the constraint of one parry manifold, of its points no further
+    /// apart than `reach` (m; nothing if none is); `warm`: start from the impulses
+    /// the manifold carries and keep last step's geometry if it holds.
+    pub(crate) fn push_manifold(&mut self, manifold: &Contacts, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
+        let len = within(manifold, reach);
+        if len == 0 {
+            return;
+        }
+        let previous = if warm { self.previous.find(ctx.pair, index) } else { None };
+        let start = self.points.len() as u32;
+        let job = Job { ctx: 0, manifold: index, start, len, previous, generalized: self.generalized(ctx) };
+        let src = Source::new(ctx, manifold, warm, reach);
+        src.points(|p| self.points.push(p));
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous };
+        let pts = &mut self.points[start as usize..];
+        let (constraint, kept) = shared.constraint(&job, &src, pts);
+        self.patches.push(shared.patch(&constraint, kept, &src, pts));
+        self.constraints.push(constraint);
+        if warm {
+            self.previous.kept.push(kept.map_or(reuse::NONE, |o| o as u32));
+        }
+    }
+}
+
+/// `v` at length `n`, zeroing only the new slots.
+fn fit<T: Default + Clone>(v: &mut Vec<T>, n: usize) {
+    v.truncate(n);
+    v.resize(n, T::default());
+}
+
+/// How many points of a manifold are within `reach` (m).
+fn within(manifold: &Contacts, reach: f64) -> u32 {
+    manifold.points.iter().filter(|tp| tp.dist <= reach).count() as u32
+}
+
+/// One manifold as the builder reads it.
+struct Source<'a, 'b> {
+    ctx: &'a PairContext,
+    manifold: &'a Contacts<'b>,
+    /// Start from the impulses the manifold carries and keep last step's
+    /// geometry if it holds (not for an impact's contact).
+    warm: bool,
+    /// Points further apart than this (m) are left out.
+    reach: f64,
+    /// World normal.
+    normal: Vec3,
+}
+
+impl<'a, 'b> Source<'a, 'b> {
+    fn new(ctx: &'a PairContext, manifold: &'a Contacts<'b>, warm: bool, reach: f64) -> Self {
+        let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
+        Source { ctx, manifold, warm, reach, normal: sub1.rotation * manifold.local_n1 }
+    }
+
+    /// The manifold's points within reach, anchored at the step start, each
+    /// handed to `put`: a serial build pushes them, with no zeroed slots to
+    /// overwrite (and no `Option<Point>` moved per point, as by an iterator).
+    #[inline(always)]
+    fn points(&self, mut put: impl FnMut(Point)) {
+        let (ctx, m, n) = (self.ctx, self.manifold, self.normal);
+        let sub1 = m.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
+        let sub2 = m.subshape_pos2.map_or(ctx.pose2, |s| ctx.pose2 * s);
+        for (k, tp) in m.points.iter().enumerate().filter(|(_, tp)| tp.dist <= self.reach) {
+            let mid = ((sub1 * tp.local_p1).coords + (sub2 * tp.local_p2).coords) * 0.5;
+            let (r1, r2) = (mid - ctx.x1, mid - ctx.x2);
+            put(Point {
+                anchor1: r1,
+                anchor2: r2,
+                r1,
+                r2,
+                base_separation: tp.dist - n.dot(&(r2 - r1)),
+                separation: tp.dist,
+                point: mid,
+                normal_impulse: if self.warm { tp.data.normal_impulse } else { 0.0 },
+                manifold_point: k as u32,
+                corner: match (ctx.corners[0].at(tp.fid1, &tp.local_p1), ctx.corners[1].at(tp.fid2, &tp.local_p2)) {
+                    (true, false) => 1,
+                    (false, true) => 2,
+                    _ => 0,
+                },
+                ..Default::default()
+            });
+        }
+    }
+}
+
+impl Shared<'_> {
+    /// The constraint of one manifold whose points `pts` are laid out, their
+    /// arms and masses (kept from last step's constraint of the manifold when
+    /// they hold, which it returns).
+    #[inline(always)]
+    fn constraint(&self, job: &Job, src: &Source, pts: &mut [Point]) -> (Constraint, Option<usize>) {
+        let ctx = src.ctx;
+        let kept = job.previous.filter(|&o| reuse::holds(self.previous, self.bodies, o, ctx, &src.normal, pts));
+        let (n, t1, t2) = match kept {
+            Some(o) => reuse::keep(self.previous, o, pts),
+            None => {
+                let n = src.normal;
+                let t1 = orthonormal(&n);
+                let (b1, b2) = (&self.bodies[ctx.s1 as usize], &self.bodies[ctx.s2 as usize]);
+                for p in pts.iter_mut() {
+                    normal_mass(p, b1, b2, &n);
+                }
+                (n, t1, n.cross(&t1))
+            }
+        };
+        let points = src.manifold.points;
+        let c = Constraint {
+            s1: ctx.s1,
+            s2: ctx.s2,
+            normal: n,
+            t1,
+            t2,
+            friction: ctx.material.friction,
+            static_friction: ctx.material.static_friction,
+            restitution: ctx.material.restitution,
+            start: job.start,
+            len: job.len,
+            b1: ctx.b1,
+            b2: ctx.b2,
+            pair: ctx.pair,
+            slot: ctx.slot,
+            manifold: job.manifold,
+            fresh: !src.warm || points.iter().all(|tp| tp.data.normal_impulse == 0.0),
+            lower: 0,
+            group: 0,
+            generalized: job.generalized,
+            settled: true,
+            landing: false,
+            as_built: true,
+        };
+        (c, kept)
+    }
+
+    /// The friction patch of constraint `c` (its geometry kept from last step's
+    /// constraint `kept`), warm-started from what the manifold's points carry.
+    #[inline(always)]
+    fn patch(&self, c: &Constraint, kept: Option<usize>, src: &Source, pts: &[Point]) -> Patch {
+        let mut patch = match kept {
+            Some(o) => Patch::with_geometry_of(&self.previous.patches[o]),
+            None => Patch::new(c, pts, self.bodies),
+        };
+        if src.warm {
+            // Each point carries its share of the patch's impulses: summed, they
+            // survive points that appear or vanish between steps.
+            let points = src.manifold.points;
+            let ft: Vec3 = points.iter().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
+            patch.impulse = [ft.dot(&c.t1), ft.dot(&c.t2)];
+            if patch.shape.lever > 0.0 {
+                patch.twist = points.iter().map(|tp| tp.data.twist_impulse).sum();
+            }
+            patch.sliding = points.iter().any(|tp| tp.data.sliding);
+        }
+        patch
+    }
+}

@@ -22,7 +22,7 @@ def stacks(n: int = 16, height: int = 3) -> rr.World:
     scene.add_body(rr.Plane(), fixed=True)
     for s in range(n):
         for k in range(height):
-            scene.add_body(rr.Box((0.1, 0.1, 0.1)), density=500.0, position=(0.5 * (s % 4), 0.5 * (s // 4), 0.1 + 0.21 * k))
+            scene.add_body(rr.Box((0.1, 0.1, 0.1)), density=500.0, position=(0.5 * (s % 20), 0.5 * (s // 20), 0.1 + 0.21 * k))
     return scene.build(dt=1 / 60, sleep=False)
 
 
@@ -39,27 +39,27 @@ def free_bodies(n: int = 13_000) -> rr.World:
     return scene.build(dt=1 / 60)
 
 
-# Touching pairs from which the narrow phase and the constraints' build split
-# over threads (`MIN_PARALLEL_PAIRS` in narrow_phase.rs, `MIN_PARALLEL` in
-# prepare.rs).
-PARALLEL_PAIRS = 256
+# Contact pairs from which a step runs on the pool and splits its narrow phase
+# and the constraints' build over threads (`MIN_PARALLEL_PAIRS` in
+# narrow_phase.rs).
+PARALLEL_PAIRS = 1024
 
 
-def ball_pit(n: int = 500) -> rr.World:
+def ball_pit(n: int = 800) -> rr.World:
     """Balls poured in a box, touching from the first step: ball pairs."""
     scene = rr.Scene(gravity=(0, 0, -G))
     scene.add_body(rr.Plane(), fixed=True)
     for x, y in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-        scene.add_body(rr.Plane(normal=(-x, -y, 0), offset=-0.6), fixed=True)
+        scene.add_body(rr.Plane(normal=(-x, -y, 0), offset=-1.0), fixed=True)
     rng = np.random.default_rng(2)
     for k in range(n):
         jitter = rng.uniform(-0.005, 0.005, size=2)
-        x, y, z = (k % 6 - 2.5) * 0.2 + jitter[0], (k // 6 % 6 - 2.5) * 0.2 + jitter[1], 0.1 + 0.199 * (k // 36)
+        x, y, z = (k % 10 - 4.5) * 0.2 + jitter[0], (k // 10 % 10 - 4.5) * 0.2 + jitter[1], 0.1 + 0.199 * (k // 100)
         scene.add_body(rr.Sphere(0.1), density=1000.0, position=(x, y, z))
     return scene.build(dt=1 / 60, sleep=False)
 
 
-def box_heap(n: int = 400) -> rr.World:
+def box_heap(n: int = 1200) -> rr.World:
     """Cubes tilted at random, dropped in layers onto each other and the ground:
     box manifolds that appear, vanish and keep their geometry, and support blocks."""
     scene = rr.Scene(gravity=(0, 0, -G))
@@ -68,7 +68,7 @@ def box_heap(n: int = 400) -> rr.World:
     for k in range(n):
         axis = rng.normal(size=3)
         q = np.append(np.sin(0.05) * axis / np.linalg.norm(axis), np.cos(0.05))
-        x, y, z = (k % 10) * 0.23, (k // 10 % 10) * 0.23, 0.12 + 0.23 * (k // 100)
+        x, y, z = (k % 20) * 0.23, (k // 20 % 20) * 0.23, 0.12 + 0.23 * (k // 400)
         scene.add_body(rr.Box((0.1, 0.1, 0.1)), density=500.0, position=(x, y, z), orientation=q)
     return scene.build(dt=1 / 60, sleep=False)
 
@@ -83,7 +83,7 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "kicked_column": SCENES["kicked_column"],
     "ball_pit": ball_pit,
     "box_heap": box_heap,
-    "many_stacks": lambda: stacks(n=100),
+    "many_stacks": lambda: stacks(n=400),
 }
 PARALLEL_CONTACTS = ("ball_pit", "box_heap", "many_stacks")
 

@@ -20,7 +20,8 @@ use crate::collide::material::combine;
 use crate::collide::narrow_phase::{Contacts, NarrowPhase};
 use crate::math::{Mat3, Quat, Vec3};
 
-/// Touching pairs below which the constraints are built on one thread.
+/// Touching pairs below which the constraints are built on one thread (in a
+/// step that runs on the pool: see `narrow_phase::MIN_PARALLEL_PAIRS`).
 const MIN_PARALLEL: usize = 256;
 /// Manifolds handed to a thread at a time.
 const PER_TASK: usize = 32;

@@ -9,7 +9,7 @@ use super::Settings;
 use crate::body::{BodyKind, Bodies};
 use crate::collide::broad_phase::{Aabb, HalfSpace, SweepAndPrune};
 use crate::collide::ccd::{self, Start};
-use crate::collide::narrow_phase::{supported, ContactReport, NarrowPhase, Prediction, MIN_PARALLEL_PAIRS};
+use crate::collide::narrow_phase::{supported, ContactReport, NarrowPhase, Prediction};
 use crate::collide::{Collider, Filter};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -225,7 +225,7 @@ impl Collision {
     /// Manifolds of the candidates, bodies woken by touch, and the constraints of
     /// this step. Returns whether a body woke.
     pub fn narrow_phase(&mut self, b: &mut Bodies, step: &NarrowStep) -> bool {
-        let parallel = step.threads > 1 && self.candidates.len() >= MIN_PARALLEL_PAIRS;
+        let parallel = step.threads > 1;
         let prep = Preparation { h: step.h, gravity: step.gravity, parallel };
         if self.idle {
             self.narrow.touching.clear();
@@ -234,17 +234,9 @@ impl Collision {
         }
         let pred = Prediction { margin: self.margin, dt: step.dt, gravity: step.gravity };
         let cols = &self.colliders;
-        let (narrow, candidates, shared) = (&mut self.narrow, &self.candidates, &*b);
-        let mut update = |parallel: bool| {
-            narrow.update(cols, shared, candidates, &pred, parallel, |i, j| {
-                !shared.moving(cols[i as usize].body as usize) && !shared.moving(cols[j as usize].body as usize)
-            })
-        };
-        if parallel {
-            super::threads::install(step.threads, || update(true));
-        } else {
-            update(false);
-        }
+        self.narrow.update(cols, b, &self.candidates, &pred, parallel, |i, j| {
+            !b.moving(cols[i as usize].body as usize) && !b.moving(cols[j as usize].body as usize)
+        });
         let mut woke = false;
         for &k in &self.narrow.touching {
             let (i, j) = self.narrow.pairs[k as usize].key;
@@ -283,7 +275,8 @@ pub struct NarrowStep {
     /// The contact substep (s) the solver is prepared for.
     pub h: f64,
     pub gravity: Vec3,
-    /// Worker threads the pairs may be stepped on (same bits for every count).
+    /// Worker threads the pairs may be stepped on (same bits for every count);
+    /// more than one only on the pool's threads (the caller installed it).
     pub threads: usize,
 }
 

@@ -68,22 +68,26 @@ impl World {
     }
 
     /// One step of `dt`: the plan's stages, substeps and all. A world with
-    /// parallel work runs the whole step on its pool, not only the parallel
-    /// stages: the pool's threads, spinning a while after each parallel stage,
-    /// would otherwise take a core from the calling thread (the 1000-ball pit
-    /// stepped 10-15 % slower on two threads than on one).
+    /// enough contact pairs runs the whole step on its pool, and only then
+    /// splits its contact stages: the pool's threads, spinning a while after a
+    /// parallel stage, would otherwise take a core from the calling thread (a
+    /// 210-box pyramid whose narrow phase alone went to the pool stepped 30 %
+    /// slower on two threads than on one).
     pub(crate) fn one_step(&mut self, src: &KickSources) {
         let threads = super::threads::resolve(self.settings.threads);
-        if threads > 1 && self.parallel_contacts() {
+        let parallel = threads > 1 && self.many_pairs();
+        self.contact_threads = if parallel { threads } else { 1 };
+        if parallel {
             super::threads::install(threads, || self.one_step_here(src));
         } else {
             self.one_step_here(src);
         }
     }
 
-    /// Whether the contact stages have enough pairs to split over threads.
-    fn parallel_contacts(&self) -> bool {
-        self.collision.as_ref().is_some_and(|c| c.colliders.len() >= crate::collide::narrow_phase::MIN_PARALLEL_PAIRS)
+    /// Whether the last step kept enough contact pairs to split its contact
+    /// stages over threads.
+    fn many_pairs(&self) -> bool {
+        self.collision.as_ref().is_some_and(|c| c.narrow.len() >= crate::collide::narrow_phase::MIN_PARALLEL_PAIRS)
     }
 
     fn one_step_here(&mut self, src: &KickSources) {
@@ -280,7 +284,7 @@ impl World {
 
     /// Contacts of this step, then which awake bodies touch something.
     fn narrow_phase(&mut self, h: f64) {
-        let threads = super::threads::resolve(self.settings.threads);
+        let threads = self.contact_threads.max(1);
         let step = super::collision::NarrowStep { dt: self.settings.dt, h, gravity: self.gravity, threads };
         let Some(c) = self.collision.as_mut() else { return };
         if c.narrow_phase(&mut self.bodies, &step) {

@@ -24,6 +24,10 @@ pub struct World {
     pub(crate) substeps: u32,
     /// Contact substeps the last step took (see `solve::rocking`).
     pub(crate) last_substeps: u32,
+    /// Worker threads the contact stages of the current step may use: more
+    /// than one only while the step runs on the pool (see `World::one_step`).
+    #[serde(skip)]
+    pub(crate) contact_threads: usize,
     pub(crate) rotation: Rotation,
     /// Awake dynamic bodies by class (rebuilt when bodies sleep or wake).
     pub(crate) lists: BodyLists,
@@ -138,6 +142,7 @@ impl World {
             settings,
             substeps,
             last_substeps: substeps,
+            contact_threads: 1,
             rotation,
             split: [lists.clone(), BodyLists::default()],
             split_mask: None,

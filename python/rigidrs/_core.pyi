@@ -827,7 +827,9 @@ class World:
     @property
     def threads(self) -> int:
         """Worker threads the world's parallel stages use (the build argument ``threads``,
-        every core by default); settable (≥ 1). Every count gives the same bits."""
+        every core by default); settable (≥ 1). Every count gives the same bits. Parallel
+        today: the free rotation of 4096 or more bodies of one class, and the narrow phase
+        and contact-constraint build of a world with 1024 or more contact pairs."""
     @threads.setter
     def threads(self, n: int) -> None: ...
     @property

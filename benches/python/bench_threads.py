@@ -5,7 +5,10 @@ Scenes:
 - `stacks`: 64 separate stacks of 4 boxes on the ground (64 islands), sleep off;
 - `free`: N free boxes 0.1 x 0.2 x 0.4 m (asymmetric), |omega| = 5 rad/s, no
   gravity, no colliders (default N = 20 000);
-- `free_colliding`: the same boxes with colliders, 1 m apart (nothing touches).
+- `free_colliding`: the same boxes with colliders, 1 m apart (nothing touches);
+- `pyramid_820`: the pyramid of base 40 of `benches/peers/pyramid.py` (1600
+  contact pairs: its narrow phase and constraint build run on both threads);
+- `ball_pit`: 1000 balls of 0.1 m in a 2 m box, 10 layers, sleep off (2900 pairs).
 
 Per scene and thread count: the median wall time of --repeats runs of --steps
 steps after a warm-up, the process CPU time over wall (near the thread count on a
@@ -14,7 +17,7 @@ quiet machine) and the load average, then the ratio 1-thread wall / 2-thread wal
 elsewhere hits both).
 The end states are checked bitwise equal.
 
-    python benches/python/bench_threads.py          # ~30 s
+    python benches/python/bench_threads.py          # ~45 s
 """
 import argparse
 import json
@@ -50,7 +53,30 @@ def free(threads, n=20_000, colliders=False):
     return scene.build(dt=1 / 240, threads=threads)
 
 
-SCENES = {"stacks": (stacks, 200), "free": (free, 100), "free_colliding": (lambda t: free(t, colliders=True), 50)}
+def pyramid_820(threads, base=40):
+    scene = rr.Scene(gravity=(0, 0, -9.81))
+    scene.add_body(rr.Plane(), fixed=True, friction=0.5)
+    for i in range(base):
+        for j in range(base - i):
+            x = (j - (base - i - 1) / 2) * 1.02
+            scene.add_body(rr.Box((0.5, 0.5, 0.5)), density=1000.0, position=(x, 0, 0.5 + i), friction=0.5)
+    return scene.build(dt=1 / 60, sleep=False, threads=threads)
+
+
+def ball_pit(threads, n=1000):
+    scene = rr.Scene(gravity=(0, 0, -9.81))
+    scene.add_body(rr.Plane(), fixed=True)
+    for x, y in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        scene.add_body(rr.Plane(normal=(-x, -y, 0), offset=-1.0), fixed=True)
+    rng = np.random.default_rng(2)
+    for k in range(n):
+        jx, jy = rng.uniform(-0.005, 0.005, size=2)
+        scene.add_body(rr.Sphere(0.1), density=1000.0, position=((k % 10 - 4.5) * 0.2 + jx, (k // 10 % 10 - 4.5) * 0.2 + jy, 0.1 + 0.199 * (k // 100)))
+    return scene.build(dt=1 / 60, sleep=False, threads=threads)
+
+
+SCENES = {"stacks": (stacks, 200), "free": (free, 100), "free_colliding": (lambda t: free(t, colliders=True), 50),
+          "pyramid_820": (pyramid_820, 200), "ball_pit": (ball_pit, 100)}
 
 
 def main():

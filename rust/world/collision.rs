@@ -29,9 +29,13 @@ pub struct Collision {
     /// Pose (position, quaternion) each box of a body at rest was computed at: a
     /// sleeping or fixed body keeps its box until something moves it.
     boxed_at: Vec<[f64; 7]>,
+    /// The pairs of fat boxes, sorted.
     sap_pairs: Vec<(u32, u32)>,
     sap: SweepAndPrune,
     candidates: Vec<(u32, u32)>,
+    /// Scratch for merging the half-space pairs into the candidates.
+    #[serde(skip)]
+    merged: Vec<(u32, u32)>,
     pub narrow: NarrowPhase,
     pub solver: ContactSolver,
     pub islands: Islands,
@@ -124,6 +128,7 @@ impl Collision {
             infinite,
             sap: SweepAndPrune::default(),
             candidates: Vec::new(),
+            merged: Vec::new(),
             narrow: NarrowPhase::default(),
             solver: ContactSolver::new(n, settings.solver),
             islands: Islands::new(n),
@@ -188,6 +193,10 @@ impl Collision {
             let (cols, jointed) = (&self.colliders, &self.jointed);
             let keep = |i: u32, j: u32| may_touch(cols, i, j, jointed);
             self.sap.pairs(&self.fat, &self.finite, keep, &mut self.sap_pairs);
+            // Sorted once per rebuild, not once per step (the candidates'
+            // sort was 3 % of a settled ball pit's step): the candidates
+            // below are filtered from them in order.
+            self.sap_pairs.sort_unstable();
         }
         self.candidates.clear();
         let (cols, boxes) = (&self.colliders, &self.boxes);
@@ -197,6 +206,7 @@ impl Collision {
                 self.candidates.push((i, j));
             }
         }
+        let finite = self.candidates.len();
         for &h in &self.infinite {
             let c = &cols[h as usize];
             let pose = c.pose(b);
@@ -209,7 +219,10 @@ impl Collision {
                 }
             }
         }
-        self.candidates.sort_unstable();
+        if self.candidates.len() > finite {
+            self.candidates[finite..].sort_unstable();
+            merge_sorted(&mut self.candidates, finite, &mut self.merged);
+        }
         self.record_ccd_start(b);
     }
 
@@ -278,6 +291,26 @@ pub struct NarrowStep {
     /// Worker threads the pairs may be stepped on (same bits for every count);
     /// more than one only on the pool's threads (the caller installed it).
     pub threads: usize,
+}
+
+/// Merges the sorted runs `v[..mid]` and `v[mid..]` of `v` in place (through
+/// `scratch`).
+fn merge_sorted(v: &mut Vec<(u32, u32)>, mid: usize, scratch: &mut Vec<(u32, u32)>) {
+    scratch.clear();
+    let (a, b) = v.split_at(mid);
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if b[j] < a[i] {
+            scratch.push(b[j]);
+            j += 1;
+        } else {
+            scratch.push(a[i]);
+            i += 1;
+        }
+    }
+    scratch.extend_from_slice(&a[i..]);
+    scratch.extend_from_slice(&b[j..]);
+    std::mem::swap(v, scratch);
 }
 
 /// Rotation per step (rad) above which a body's box is that of its reach.

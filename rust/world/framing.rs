@@ -14,7 +14,10 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 2: scenes keep the calls that filled them (`recipe`), planes their given
 /// normal, compounds their parts' given orientations.
 /// 3: the narrow phase keeps its pairs in slots, with their order by key.
-pub const FORMAT_VERSION: u32 = 4;
+/// 4: the rocking state of the support sweeps.
+/// 5: the broad phase keeps its pairs of fat boxes sorted (a step filters the
+/// candidates from them in order).
+pub const FORMAT_VERSION: u32 = 5;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

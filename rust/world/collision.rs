@@ -414,6 +414,28 @@ mod tests {
         assert_eq!(seen, [true, true], "ball 1 both free and touching");
     }
 
+    /// The candidates must come sorted (the narrow phase matches them to its
+    /// pairs by a merge): with a ground plane added between the balls, its
+    /// pairs fall among theirs.
+    #[test]
+    fn candidates_stay_sorted_with_a_plane_among_the_bodies() {
+        let mut sc = Scene::new([0.0, 0.0, -9.81]).unwrap();
+        let ball = || Some(Shape::sphere(0.1).unwrap());
+        for k in 0..6 {
+            if k == 3 {
+                sc.add_body(BodySpec { shape: Some(Shape::plane([0.0, 0.0, 1.0], 0.0).unwrap()), fixed: true, ..Default::default() }).unwrap();
+            }
+            let position = [0.19 * (k % 3) as f64, 0.0, 0.1 + 0.19 * (k / 3) as f64];
+            sc.add_body(BodySpec { shape: ball(), density: Some(1000.0), position, ..Default::default() }).unwrap();
+        }
+        let mut w = sc.build(&Settings::new(1.0 / 60.0)).unwrap();
+        w.step(2).unwrap();
+        let c = w.collision.as_ref().unwrap();
+        let plane_pairs = c.candidates.iter().filter(|&&(i, j)| i == 3 || j == 3).count();
+        assert!(plane_pairs >= 3 && c.candidates.len() > plane_pairs, "{:?}", c.candidates);
+        assert!(c.candidates.windows(2).all(|p| p[0] < p[1]), "{:?}", c.candidates);
+    }
+
     #[test]
     fn a_ball_reaches_as_far_as_its_radius_not_its_box_corner() {
         let w = balls([0.0; 3], &[([0.0; 3], [0.0; 3], false), ([1.0, 0.0, 0.0], [0.0; 3], false)]);

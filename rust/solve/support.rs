@@ -128,6 +128,11 @@ impl Support {
 }
 
 impl ContactSolver {
+    /// This step's support blocks and the islands they form (for profiling).
+    pub fn support_blocks(&self) -> (usize, usize) {
+        (self.support.blocks.len(), self.support.islands)
+    }
+
     /// Finds the support contacts, their lower sides and the blocks.
     pub(crate) fn plan_support(&mut self, up: &Vec3, gravity: f64, b: &Bodies) {
         self.support.residual = RESIDUAL * gravity / self.inv_h;

@@ -154,8 +154,8 @@ fn main() {
         let (pairs, touching) = (c.narrow.len(), c.narrow.touching.len());
         let (manifolds, points) = (c.solver.constraints.len(), c.solver.points.len());
         println!("  pairs {pairs}, touching {touching}, manifolds {manifolds}, points {points}");
-        let (blocks, islands) = c.solver.support_blocks();
-        println!("  support blocks {blocks} in {islands} islands");
+        let (blocks, islands, largest) = c.solver.support_blocks();
+        println!("  support blocks {blocks} in {islands} islands, the largest {largest}");
     }
     println!("  state {:016x}", state_hash(&w));
 }

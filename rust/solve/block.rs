@@ -16,12 +16,14 @@
 
 use super::contact::{Constraint, ContactSolver, Point};
 use super::friction::Patch;
+use super::island_sweeps::Sweep;
 use super::limit_surface::inside;
 use super::active_set::Pivot;
 use super::projected_gauss_seidel::Runs;
 use super::solver_body::SolverBody;
 use crate::math::Vec3;
 use nalgebra::{Matrix6, Vector6};
+use rayon::prelude::*;
 
 /// A pivot below this fraction of the largest diagonal of `K` marks a row that
 /// depends on the ones before it.
@@ -38,6 +40,9 @@ const MAX_AMPLIFICATION: f64 = 100.0;
 /// on the normals of its points (statics) and asks friction only for what they
 /// cannot give (a sideways force, a turn about the normal).
 const FRICTION_WEIGHT: f64 = 1e3;
+
+/// Fewest blocks to reassemble for the work to be split over threads.
+const MIN_PARALLEL_ASSEMBLY: usize = 64;
 
 /// One body on its supports.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -212,16 +217,39 @@ impl Scratch {
 
 impl ContactSolver {
     /// Builds the rows of every block (`all`, after planning) or recomputes
-    /// `J` and `Q` of the blocks whose bodies moved.
+    /// `J` and `Q` of the blocks whose bodies moved (those on the pool's
+    /// threads, when the step runs there: each block writes only its own rows).
     pub(crate) fn assemble_blocks(&mut self, all: bool) {
         if all {
             self.lay_out_rows();
+            for g in 0..self.support.blocks.len() {
+                if !self.keep_block(g) {
+                    self.assemble_block(g);
+                }
+            }
+            return;
         }
-        for g in 0..self.support.blocks.len() {
-            if (all && !self.keep_block(g)) || (!all && self.support.blocks[g].dirty) {
-                self.assemble_block(g);
+        let dirty = self.support.blocks.iter().filter(|b| b.dirty).count();
+        let wide = self.wide();
+        let src = Source { constraints: &self.constraints, patches: &self.patches, points: &self.points, bodies: &self.bodies };
+        let s = &mut self.support;
+        let jobs = if wide && dirty >= MIN_PARALLEL_ASSEMBLY { dirty_rows(&mut s.blocks, &mut s.rows) } else { None };
+        match jobs {
+            Some(jobs) => jobs.into_par_iter().for_each(|(b, rows)| assemble(b, rows, &src)),
+            None => {
+                for b in s.blocks.iter_mut().filter(|b| b.dirty) {
+                    assemble(b, &mut s.rows[b.rows.0 as usize..b.rows.1 as usize], &src);
+                }
             }
         }
+    }
+
+    /// `J`, `M⁻¹Jᵀ` and `Q` of block `g`'s rows at the current arms.
+    fn assemble_block(&mut self, g: usize) {
+        let src = Source { constraints: &self.constraints, patches: &self.patches, points: &self.points, bodies: &self.bodies };
+        let s = &mut self.support;
+        let b = &mut s.blocks[g];
+        assemble(b, &mut s.rows[b.rows.0 as usize..b.rows.1 as usize], &src);
     }
 
     /// The rows of every block (kinds and faces), and room for `K`.
@@ -265,41 +293,6 @@ impl ContactSolver {
         }
     }
 
-    /// `J`, `M⁻¹Jᵀ` and `Q` of block `g`'s rows at the current arms.
-    fn assemble_block(&mut self, g: usize) {
-        let b = self.support.blocks[g];
-        let upper = &self.bodies[b.body as usize];
-        let (inv_m, inv_i) = (upper.inv_m, upper.inv_i);
-        for ri in b.rows.0 as usize..b.rows.1 as usize {
-            let r = self.support.rows[ri];
-            let c = &self.constraints[r.face as usize];
-            let f = &self.patches[r.face as usize];
-            // Body 2 receives +J λ, body 1 −J λ.
-            let (lin, a1, a2) = match r.kind {
-                RowKind::Normal(pi) => {
-                    let p = &self.points[pi as usize];
-                    (c.normal, p.rn1, p.rn2)
-                }
-                RowKind::Tangent(a) => {
-                    let t = if a == 0 { c.t1 } else { c.t2 };
-                    (t, f.rt1[a as usize], f.rt2[a as usize])
-                }
-                RowKind::Twist => (Vec3::zeros(), c.normal, c.normal),
-            };
-            let (ju, jl) = if c.lower == 1 { ([lin, a2], [-lin, -a1]) } else { ([-lin, -a1], [lin, a2]) };
-            let row = &mut self.support.rows[ri];
-            row.ju = ju;
-            row.jl = jl;
-            row.wu = [ju[0] * inv_m, inv_i * ju[1]];
-        }
-        let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
-        let q = least_norm_operator(rows, &self.bodies[b.body as usize]);
-        let blk = &mut self.support.blocks[g];
-        blk.q = q;
-        blk.dirty = false;
-        blk.k_ready = false;
-    }
-
     /// `K` of block `g` and its factor, if not already those of its rows.
     pub(super) fn ensure_k(&mut self, g: usize) {
         let b = self.support.blocks[g];
@@ -324,10 +317,10 @@ impl ContactSolver {
     /// exactly if the answer pushes at every point and fits every cone, else by
     /// projected Gauss–Seidel. Applies the change to the upper body, adds it to
     /// the accumulated impulses and keeps it as debt for the lower bodies.
-    pub(crate) fn solve_block(&mut self, g: usize) {
+    pub(crate) fn solve_block(&mut self, g: usize, sw: &mut Sweep) {
         let b = self.support.blocks[g];
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
-        let mut sc = std::mem::take(&mut self.support.scratch);
+        let sc = &mut sw.scratch;
         sc.reset(r1 - r0);
         let upper = &self.bodies[b.body as usize];
         let nu = (upper.v, upper.w);
@@ -343,17 +336,16 @@ impl ContactSolver {
             sc.lambda[i] = row.lambda(&self.points, &self.patches);
         }
         if largest == 0.0 {
-            self.support.scratch = sc;
             return;
         }
         if self.support.blocks[g].solved_pass != self.support.pass {
             self.support.blocks[g].solved_pass = self.support.pass;
-            self.support.solved.push(g as u32);
+            sw.solved.push(g as u32);
             for i in 0..r1 - r0 {
                 self.support.start_lambda[r0 + i] = sc.lambda[i];
             }
         }
-        self.block_increment(g, &mut sc, true);
+        self.block_increment(g, sc, Some(&mut sw.rocking));
         let (mut dv, mut dw) = (Vec3::zeros(), Vec3::zeros());
         for i in 0..r1 - r0 {
             let row = self.support.rows[r0 + i];
@@ -374,7 +366,6 @@ impl ContactSolver {
         let ub = &mut self.bodies[b.body as usize];
         ub.v += dv;
         ub.w += dw;
-        self.support.scratch = sc;
     }
 
     /// The change `sc.y` of block `g`'s impulses from `sc.lambda` that meets its
@@ -382,8 +373,11 @@ impl ContactSolver {
     /// pass, an exact answer that pulls at some points is tried again with them
     /// let go ([`super::active_set`]) before projected Gauss–Seidel. (In the
     /// position passes, whose friction rows are unbounded, the same left the
-    /// columns of a landed box pile rocking at 4–9 cm/s for ever.)
-    fn block_increment(&mut self, g: usize, sc: &mut Scratch, velocity: bool) {
+    /// columns of a landed box pile rocking at 4–9 cm/s for ever.) `rocking`:
+    /// a velocity pass's note of a slow body rocking (see [`super::rocking`]);
+    /// `None` in a position pass.
+    fn block_increment(&mut self, g: usize, sc: &mut Scratch, rocking: Option<&mut bool>) {
+        let velocity = rocking.is_some();
         let b = self.support.blocks[g];
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
         let m = r1 - r0;
@@ -399,8 +393,8 @@ impl ContactSolver {
             if self.well_conditioned(g, sc) && self.fits(g, sc) {
                 return;
             }
-            if velocity {
-                self.note_rocking(g, sc);
+            if let Some(seen) = rocking {
+                *seen = *seen || self.rocks(g, sc);
             }
             if velocity && self.active_set(g, sc) {
                 return;
@@ -484,7 +478,7 @@ impl ContactSolver {
     /// One position pass over block `g`: the upper body moved (not its velocity)
     /// so that its points deeper than the rest depth `rest` come out by `rate` of
     /// the excess (at most `cap` a pass), and its patches neither slide nor turn.
-    pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64) {
+    pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64, sc: &mut Scratch) {
         let b = self.support.blocks[g];
         // No point of it can be deeper than the edge yet (see `super::quiet`).
         if b.low - self.block_motion(g).1 >= -rest {
@@ -515,19 +509,17 @@ impl ContactSolver {
         if !push {
             return;
         }
-        let mut sc = std::mem::take(&mut self.support.scratch);
         sc.reset(r1 - r0);
         for i in 0..r1 - r0 {
             sc.r[i] = self.support.targets[r0 + i].value();
             sc.lambda[i] = 0.0;
         }
-        self.block_increment(g, &mut sc, false);
+        self.block_increment(g, sc, None);
         let (mut dx, mut dtheta) = (Vec3::zeros(), Vec3::zeros());
         for (row, y) in self.support.rows[r0..r1].iter().zip(&sc.y) {
             dx += row.wu[0] * *y;
             dtheta += row.wu[1] * *y;
         }
-        self.support.scratch = sc;
         let ub = &mut self.bodies[b.body as usize];
         if ub.dynamic {
             ub.dp += dx;
@@ -535,6 +527,64 @@ impl ContactSolver {
             ub.pushed = true;
         }
     }
+}
+
+/// What a block's rows are built from.
+struct Source<'a> {
+    constraints: &'a [Constraint],
+    patches: &'a [Patch],
+    points: &'a [Point],
+    bodies: &'a [SolverBody],
+}
+
+/// The dirty blocks, each with its rows; `None` if the rows are not laid out
+/// block after block (as `lay_out_rows` does).
+fn dirty_rows<'a>(blocks: &'a mut [Block], rows: &'a mut [Row]) -> Option<Vec<(&'a mut Block, &'a mut [Row])>> {
+    let mut jobs = Vec::new();
+    let (mut rest, mut at) = (rows, 0usize);
+    for b in blocks.iter_mut() {
+        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
+        let tail = std::mem::take(&mut rest).get_mut(r0.checked_sub(at)?..)?;
+        if r1 < r0 || r1 - r0 > tail.len() {
+            return None;
+        }
+        let (mine, tail) = tail.split_at_mut(r1 - r0);
+        (rest, at) = (tail, r1);
+        if b.dirty {
+            jobs.push((b, mine));
+        }
+    }
+    Some(jobs)
+}
+
+/// `J`, `M⁻¹Jᵀ` and `Q` of block `b`'s rows (`rows`, its range of
+/// `Support::rows`) at the current arms.
+fn assemble(b: &mut Block, rows: &mut [Row], src: &Source) {
+    let upper = &src.bodies[b.body as usize];
+    let (inv_m, inv_i) = (upper.inv_m, upper.inv_i);
+    for row in rows.iter_mut() {
+        let c = &src.constraints[row.face as usize];
+        let f = &src.patches[row.face as usize];
+        // Body 2 receives +J λ, body 1 −J λ.
+        let (lin, a1, a2) = match row.kind {
+            RowKind::Normal(pi) => {
+                let p = &src.points[pi as usize];
+                (c.normal, p.rn1, p.rn2)
+            }
+            RowKind::Tangent(a) => {
+                let t = if a == 0 { c.t1 } else { c.t2 };
+                (t, f.rt1[a as usize], f.rt2[a as usize])
+            }
+            RowKind::Twist => (Vec3::zeros(), c.normal, c.normal),
+        };
+        let (ju, jl) = if c.lower == 1 { ([lin, a2], [-lin, -a1]) } else { ([-lin, -a1], [lin, a2]) };
+        row.ju = ju;
+        row.jl = jl;
+        row.wu = [ju[0] * inv_m, inv_i * ju[1]];
+    }
+    b.q = least_norm_operator(rows, upper);
+    b.dirty = false;
+    b.k_ready = false;
 }
 
 /// `Q = P⁻¹ M P⁻¹` of a block whose rows `J` hold all six velocities of its

@@ -180,6 +180,10 @@ pub struct ContactSolver {
     pub(crate) previous: super::reuse::Previous,
     /// Velocities before this substep's warm start (see `super::warm_guard`).
     pub(crate) guard: super::warm_guard::WarmGuard,
+    /// This step runs on the world's pool: the islands of the support sweeps
+    /// may be swept in parallel (see `super::island_sweeps`). Not state.
+    #[serde(skip)]
+    pub(crate) parallel: bool,
 }
 
 /// Any unit vector orthogonal to `n`.
@@ -213,35 +217,10 @@ impl ContactSolver {
     /// friction). Both arms end at the same point, so equal and opposite impulses
     /// keep angular momentum exactly.
     pub(crate) fn refresh_constraint(&mut self, ci: usize) {
-        // The fields it needs, not a copy of the whole constraint (a `memcpy`
-        // per refresh was 1 % of a ball pit's step).
-        let c = &self.constraints[ci];
-        let (s1, s2, normal, lower, group) = (c.s1, c.s2, c.normal, c.lower, c.group);
+        let c = &mut self.constraints[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
-        let (a1, a2) = (&self.bodies[s1 as usize], &self.bodies[s2 as usize]);
-        let (w1, w2) = if a1.inv_m + a2.inv_m > 0.0 { (a1.inv_m, a2.inv_m) } else { (1.0, 1.0) };
-        let (dp1, dp2) = (a1.dp, a2.dp);
-        let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
-        let (b1, b2) = (&self.bodies[s1 as usize], &self.bodies[s2 as usize]);
-        for p in &mut self.points[range] {
-            // Both anchors start at one world point: x1 + a1 = x2 + a2.
-            match p.corner {
-                1 => {
-                    p.r1 = quat::rotate(&b1.dq, &p.anchor1);
-                    p.r2 = p.anchor2 + (dp1 + p.r1 - p.anchor1) - dp2;
-                }
-                2 => {
-                    p.r2 = quat::rotate(&b2.dq, &p.anchor2);
-                    p.r1 = p.anchor1 + (dp2 + p.r2 - p.anchor2) - dp1;
-                }
-                _ => {
-                    p.r1 = p.anchor1 + shift - dp1;
-                    p.r2 = p.anchor2 + shift - dp2;
-                }
-            }
-            normal_mass(p, b1, b2, &normal);
-        }
-        self.refresh_patch(ci);
+        refresh(c, &mut self.patches[ci], &mut self.points[range], &self.bodies);
+        let (lower, group) = (c.lower, c.group);
         if lower != 0 {
             self.support.touch(group);
         }
@@ -347,6 +326,37 @@ impl ContactSolver {
         }
         out
     }
+}
+
+/// [`ContactSolver::refresh_constraint`] of constraint `c`, its patch and its
+/// points, on the solver bodies `bodies` (the touch of its block left to the
+/// caller).
+pub(crate) fn refresh(c: &mut Constraint, patch: &mut Patch, points: &mut [Point], bodies: &[SolverBody]) {
+    let (s1, s2, normal) = (c.s1, c.s2, c.normal);
+    let (b1, b2) = (&bodies[s1 as usize], &bodies[s2 as usize]);
+    let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
+    let (dp1, dp2) = (b1.dp, b2.dp);
+    let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
+    for p in points.iter_mut() {
+        // Both anchors start at one world point: x1 + a1 = x2 + a2.
+        match p.corner {
+            1 => {
+                p.r1 = quat::rotate(&b1.dq, &p.anchor1);
+                p.r2 = p.anchor2 + (dp1 + p.r1 - p.anchor1) - dp2;
+            }
+            2 => {
+                p.r2 = quat::rotate(&b2.dq, &p.anchor2);
+                p.r1 = p.anchor1 + (dp2 + p.r2 - p.anchor2) - dp1;
+            }
+            _ => {
+                p.r1 = p.anchor1 + shift - dp1;
+                p.r2 = p.anchor2 + shift - dp2;
+            }
+        }
+        normal_mass(p, b1, b2, &normal);
+    }
+    c.as_built = false;
+    patch.set_geometry(c, points, bodies);
 }
 
 /// Arms across the normal and the effective mass of a point.

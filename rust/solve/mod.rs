@@ -9,6 +9,7 @@ pub mod friction;
 pub mod generalized;
 pub mod impacts;
 pub mod impulse;
+pub mod island_sweeps;
 pub mod islands;
 pub mod limit_surface;
 pub mod position;

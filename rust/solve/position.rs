@@ -28,9 +28,8 @@ impl ContactSolver {
         let rest = super::impulse::REST_DEPTH * self.settings.slop;
         let rows = self.support.rows.len();
         self.support.targets.resize(rows, super::block::Target::Skip);
-        for g in 0..self.support.blocks.len() {
-            self.push_block(g, rate, cap, rest);
-        }
+        let islands: Vec<u32> = (0..self.support.islands as u32).collect();
+        self.in_islands(&islands, |cs, i, sw| cs.push_island(i, sw, (rate, cap, rest)));
     }
 
     /// Fraction of a penetration removed per pass: the contact's natural

@@ -60,6 +60,7 @@ impl ContactSolver {
     /// parallel on the pool the caller installed, if `step.parallel`).
     pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, step: &Preparation) {
         self.start_step(step.h);
+        self.parallel = step.parallel;
         if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
             let (contexts, jobs) = self.place(narrow, colliders, b);
             self.lay_out(narrow, &contexts, &jobs);

@@ -72,16 +72,13 @@ impl ContactSolver {
         })
     }
 
-    /// Notes whether block `g`'s exact answer (`sc`) pulls at some of its
-    /// points while it pushes at others, its upper body slow.
-    pub(super) fn note_rocking(&mut self, g: usize, sc: &Scratch) {
-        if self.support.rocking.seen {
-            return;
-        }
+    /// Whether block `g`'s exact answer (`sc`) pulls at some of its points
+    /// while it pushes at others, its upper body slow.
+    pub(super) fn rocks(&self, g: usize, sc: &Scratch) -> bool {
         let b = self.support.blocks[g];
         let u = &self.bodies[b.body as usize];
         if u.v.norm() + u.w.norm() * b.arm > SLOW * self.support.substep_gravity() {
-            return;
+            return false;
         }
         let rows = &self.support.rows[b.rows.0 as usize..b.rows.1 as usize];
         let tiny = sc.round_off();
@@ -93,7 +90,7 @@ impl ContactSolver {
                 pushes |= l > tiny;
             }
         }
-        self.support.rocking.seen = pulls && pushes;
+        pulls && pushes
     }
 }
 

@@ -2,7 +2,8 @@
 //! before each solve pass and scattered back after, and the register-held pair of
 //! bodies a constraint is solved on.
 
-use super::contact::{inv_inertia_world, Constraint, ContactSolver, Point};
+use super::contact::{inv_inertia_world, refresh, Constraint, ContactSolver, Point};
+use rayon::prelude::*;
 use super::friction::Patch;
 use crate::body::Bodies;
 use crate::math::{quat, Mat3, Quat, Vec3};
@@ -208,6 +209,9 @@ impl Gap {
 /// moving faster than 1 µm per substep is refreshed every substep.
 pub(crate) const MOVE_EPS: f64 = 1e-6;
 
+/// Fewest constraints for the refresh of a gather to be split over threads.
+const MIN_PARALLEL_REFRESH: usize = 256;
+
 impl ContactSolver {
     /// Copies velocities and pose changes of the solver bodies from the world,
     /// and brings the inverse inertias and contact arms up to the current poses
@@ -236,14 +240,46 @@ impl ContactSolver {
                 any = true;
             }
         }
-        if any {
-            for ci in 0..self.constraints.len() {
-                let c = &self.constraints[ci];
-                if self.bodies[c.s1 as usize].moved || self.bodies[c.s2 as usize].moved {
-                    self.refresh_constraint(ci);
-                }
+        if !any {
+            return;
+        }
+        if self.wide() && self.constraints.len() >= MIN_PARALLEL_REFRESH && self.refresh_in_parallel() {
+            return;
+        }
+        for ci in 0..self.constraints.len() {
+            let c = &self.constraints[ci];
+            if self.bodies[c.s1 as usize].moved || self.bodies[c.s2 as usize].moved {
+                self.refresh_constraint(ci);
             }
         }
+    }
+
+    /// The refresh of `gather` on the pool's threads (each constraint writes
+    /// only its own points and patch); false, with nothing done, if the points
+    /// are not laid out constraint after constraint.
+    fn refresh_in_parallel(&mut self) -> bool {
+        let bodies = &self.bodies;
+        let moved = |c: &Constraint| bodies[c.s1 as usize].moved || bodies[c.s2 as usize].moved;
+        let mut jobs = Vec::new();
+        let (mut rest, mut at) = (&mut self.points[..], 0usize);
+        for (c, patch) in self.constraints.iter_mut().zip(self.patches.iter_mut()) {
+            let (p0, n) = (c.start as usize, c.len as usize);
+            let Some(tail) = p0.checked_sub(at).and_then(|skip| std::mem::take(&mut rest).get_mut(skip..)) else {
+                return false;
+            };
+            if n > tail.len() {
+                return false;
+            }
+            let (mine, tail) = tail.split_at_mut(n);
+            (rest, at) = (tail, p0 + n);
+            if moved(c) {
+                jobs.push((c, patch, mine));
+            }
+        }
+        jobs.par_iter_mut().for_each(|(c, patch, points)| refresh(c, patch, points, bodies));
+        let touched: Vec<u32> = jobs.iter().filter(|(c, _, _)| c.lower != 0).map(|(c, _, _)| c.group).collect();
+        touched.into_iter().for_each(|g| self.support.touch(g));
+        true
     }
 
     /// Writes the solved velocities of the dynamic solver bodies back.

@@ -30,7 +30,7 @@
 //! Balls side by side, walls and contacts without gravity are solved both ways
 //! by Gauss–Seidel.
 
-use super::block::{Block, Row, RowKind, Scratch, Target};
+use super::block::{Block, Row, RowKind, Target};
 use super::contact::ContactSolver;
 use super::impulse::Rule;
 use super::solver_body::Gap;
@@ -86,7 +86,9 @@ pub struct Support {
     /// [`super::quiet`]). [`RESIDUAL`] of the velocity gravity gives in a
     /// substep.
     pub residual: f64,
-    pub scratch: Scratch,
+    /// The serial sweeps' scratch (see [`super::island_sweeps`]).
+    #[serde(skip)]
+    pub(crate) sweep: super::island_sweeps::Sweep,
     /// Per row: impulse kept back for the lower body, and the impulse before
     /// the sweeps of a pass (of the blocks solved in it).
     pub debt: Vec<f64>,
@@ -99,10 +101,14 @@ pub struct Support {
     pub paid: Vec<u64>,
     /// Number of the current pass, and the blocks solved in it (first time).
     pub pass: u64,
+    #[serde(skip)]
     pub solved: Vec<u32>,
     /// Number of islands of the blocks, and which of them this pass solves
     /// (see [`super::quiet`]).
     pub islands: usize,
+    /// The blocks of each island.
+    #[serde(skip)]
+    pub(crate) index: super::island_sweeps::IslandIndex,
     pub active: Vec<bool>,
     /// Per world body: the last velocity pass that solved its island, and
     /// the number of the last velocity pass (relax passes do not count).
@@ -128,9 +134,16 @@ impl Support {
 }
 
 impl ContactSolver {
-    /// This step's support blocks and the islands they form (for profiling).
-    pub fn support_blocks(&self) -> (usize, usize) {
-        (self.support.blocks.len(), self.support.islands)
+    /// This step's support blocks, the islands they form and the blocks of
+    /// the largest (for profiling).
+    pub fn support_blocks(&self) -> (usize, usize, usize) {
+        let mut size = vec![0usize; self.support.islands];
+        for b in &self.support.blocks {
+            if let Some(n) = size.get_mut(b.island as usize) {
+                *n += 1;
+            }
+        }
+        (self.support.blocks.len(), self.support.islands, size.into_iter().max().unwrap_or(0))
     }
 
     /// Finds the support contacts, their lower sides and the blocks.
@@ -143,6 +156,8 @@ impl ContactSolver {
         s.rows.clear();
         if gravity <= 0.0 || self.constraints.is_empty() {
             self.ordinary.extend(0..self.constraints.len() as u32);
+            self.support.islands = 0;
+            self.index_islands();
             return;
         }
         let speed = SETTLED * gravity / self.inv_h + super::impulse::REST_DEPTH * self.settings.slop * self.inv_h;
@@ -162,6 +177,7 @@ impl ContactSolver {
             self.plan_afresh(up);
         }
         self.bound_blocks();
+        self.index_islands();
     }
 
     /// The support contacts, their lower sides and the blocks, found from the
@@ -379,35 +395,8 @@ impl ContactSolver {
         s.touched.resize(self.bodies.len(), 0);
         s.paid.resize(self.bodies.len(), 0);
         s.start_lambda.resize(s.rows.len(), 0.0);
-        let n = s.blocks.len();
-        for k in 0..n {
-            if self.support.active[self.support.blocks[k].island as usize] {
-                self.solve_block(k);
-            }
-        }
-        // Top down a level at a time: every block of a level is solved on its
-        // supports as the bottom-up sweep left them, then their debts are paid (a
-        // box resting on two others would otherwise find one of them already
-        // pushed by a neighbour's load). A block whose upper body received no
-        // reaction since its bottom-up solve is as that solve left it.
-        let mut end = n;
-        while end > 0 {
-            let level = self.support.blocks[end - 1].level;
-            let mut start = end;
-            while start > 0 && self.support.blocks[start - 1].level == level {
-                start -= 1;
-            }
-            for k in (start..end).rev() {
-                let body = self.support.blocks[k].body as usize;
-                if self.support.paid.get(body).copied() == Some(self.support.pass) {
-                    self.solve_block(k);
-                }
-            }
-            for k in start..end {
-                self.pay(k);
-            }
-            end = start;
-        }
+        let active: Vec<u32> = (0..s.islands as u32).filter(|&i| s.active.get(i as usize) == Some(&true)).collect();
+        self.in_islands(&active, |cs, i, sw| cs.sweep_island(i, sw));
         if !self.support.solved.is_empty() {
             let steps = self.sweep_steps();
             if steps.iter().any(|&t| t < 1.0) {
@@ -455,7 +444,7 @@ impl ContactSolver {
     }
 
     /// Applies the impulses block `k` kept back to its lower bodies.
-    fn pay(&mut self, k: usize) {
+    pub(super) fn pay(&mut self, k: usize) {
         let b = self.support.blocks[k];
         for ri in b.rows.0 as usize..b.rows.1 as usize {
             let d = std::mem::take(&mut self.support.debt[ri]);

@@ -17,7 +17,9 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 4: the rocking state of the support sweeps.
 /// 5: the broad phase keeps its pairs of fat boxes sorted (a step filters the
 /// candidates from them in order).
-pub const FORMAT_VERSION: u32 = 5;
+/// 6: the support sweeps' scratch and list of solved blocks are no longer
+/// kept (they are rebuilt by every pass).
+pub const FORMAT_VERSION: u32 = 6;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

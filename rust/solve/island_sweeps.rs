@@ -1,0 +1,229 @@
+//! The support sweeps ([`super::support`]) and the position pass
+//! ([`super::position`]) island by island, the islands in parallel.
+//!
+//! An island of support blocks (see [`super::quiet`]) shares no dynamic body,
+//! block, row, face, point or patch with another: a sweep of one reads and
+//! writes only its own, and the fixed and kinematic bodies, which no sweep
+//! writes. Each island is swept in the order the serial sweep visits its
+//! blocks (bottom up, then top down a level at a time), so its arithmetic is
+//! the same whatever the other islands do or when: one thread or many, the
+//! same bits. A tumbling 4000-cube pile has some 700 islands; a pyramid or a
+//! single heap is one, and stays on the calling thread.
+
+use super::block::Scratch;
+use super::contact::ContactSolver;
+use rayon::prelude::*;
+
+/// Fewest blocks in the islands of a pass for it to be split over threads:
+/// below this, the hand-off costs more than the sweeps (a block's solve is a
+/// few microseconds).
+const MIN_PARALLEL_BLOCKS: usize = 128;
+
+/// What one thread's sweeps of some islands keep apart from the solver: the
+/// scratch of its block solves, the blocks it solved (first time this pass)
+/// and whether it saw a slow body rock (see [`super::rocking`]).
+#[derive(Clone, Default)]
+pub struct Sweep {
+    pub scratch: Scratch,
+    pub solved: Vec<u32>,
+    pub rocking: bool,
+}
+
+/// The blocks of each island, in block order (bottom up), one range each.
+#[derive(Clone, Default)]
+pub struct IslandIndex {
+    start: Vec<u32>,
+    blocks: Vec<u32>,
+}
+
+impl IslandIndex {
+    /// The blocks of island `i` (none for an island that does not exist).
+    fn of(&self, i: usize) -> &[u32] {
+        match (self.start.get(i), self.start.get(i + 1)) {
+            (Some(&a), Some(&b)) => self.blocks.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+}
+
+/// The solver, shared by the threads that sweep its islands.
+struct Solver(*mut ContactSolver);
+
+// SAFETY: the threads given a `Solver` sweep disjoint islands (see the module
+// docs): none writes what another reads or writes, and nothing is pushed to or
+// resized in the solver while they run.
+unsafe impl Send for Solver {}
+unsafe impl Sync for Solver {}
+
+impl Solver {
+    /// SAFETY: the caller touches only the island it was given.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn get(&self) -> &mut ContactSolver {
+        unsafe { &mut *self.0 }
+    }
+}
+
+impl ContactSolver {
+    /// Whether this step's support islands are many enough to be swept in
+    /// parallel; the work around the sweeps (the gathers' refresh of arms and
+    /// patches, the blocks' reassembly) then goes to the threads too. A step
+    /// without them keeps that work on one thread: a 1000-ball pit whose
+    /// gathers refreshed their 2900 constraints on two threads stepped 10 %
+    /// slower than on one (the hand-offs, and the data one thread wrote being
+    /// read from the other's cache by the serial solve).
+    pub(crate) fn wide(&self) -> bool {
+        self.parallel && self.support.islands >= 2 && self.support.blocks.len() >= MIN_PARALLEL_BLOCKS
+    }
+
+    /// Lists the blocks of each island (after the plan).
+    pub(crate) fn index_islands(&mut self) {
+        let s = &mut self.support;
+        let n = s.islands;
+        let ix = &mut s.index;
+        ix.start.clear();
+        ix.start.resize(n + 1, 0);
+        for b in &s.blocks {
+            if let Some(c) = ix.start.get_mut(b.island as usize + 1) {
+                *c += 1;
+            }
+        }
+        for i in 0..n {
+            ix.start[i + 1] += ix.start[i];
+        }
+        let mut fill = ix.start.clone();
+        ix.blocks.clear();
+        ix.blocks.resize(ix.start[n] as usize, 0);
+        for (g, b) in s.blocks.iter().enumerate() {
+            if let Some(at) = fill.get_mut(b.island as usize) {
+                ix.blocks[*at as usize] = g as u32;
+                *at += 1;
+            }
+        }
+    }
+
+    /// Runs `work` on each of `islands`, in parallel where the pass is large
+    /// and the step runs on the pool; then gathers the blocks solved and the
+    /// rocking seen.
+    pub(crate) fn in_islands(&mut self, islands: &[u32], work: impl Fn(&mut ContactSolver, usize, &mut Sweep) + Sync) {
+        let blocks: usize = islands.iter().map(|&i| self.support.index.of(i as usize).len()).sum();
+        if self.wide() && islands.len() >= 2 && blocks >= MIN_PARALLEL_BLOCKS {
+            let solver = Solver(self as *mut ContactSolver);
+            let sweeps: Vec<Sweep> = islands
+                .par_iter()
+                .fold(Sweep::default, |mut sw, &i| {
+                    // SAFETY: each island is given to one thread (see `Solver`).
+                    work(unsafe { solver.get() }, i as usize, &mut sw);
+                    sw
+                })
+                .collect();
+            for sw in sweeps {
+                self.support.solved.extend_from_slice(&sw.solved);
+                self.support.rocking.seen |= sw.rocking;
+            }
+        } else {
+            let mut sw = std::mem::take(&mut self.support.sweep);
+            sw.solved.clear();
+            sw.rocking = false;
+            for &i in islands {
+                work(self, i as usize, &mut sw);
+            }
+            self.support.solved.extend_from_slice(&sw.solved);
+            self.support.rocking.seen |= sw.rocking;
+            self.support.sweep = sw;
+        }
+    }
+
+    /// The two sweeps over island `i`'s blocks: bottom up, then top down a
+    /// level at a time, each level solved on its supports as the bottom-up
+    /// sweep left them before their debts are paid (a box resting on two
+    /// others would otherwise find one of them already pushed by a
+    /// neighbour's load). A block whose upper body received no reaction since
+    /// its bottom-up solve is as that solve left it.
+    pub(crate) fn sweep_island(&mut self, i: usize, sw: &mut Sweep) {
+        let n = self.support.index.of(i).len();
+        let block = |s: &Self, k: usize| s.support.index.of(i)[k] as usize;
+        for k in 0..n {
+            self.solve_block(block(self, k), sw);
+        }
+        let mut end = n;
+        while end > 0 {
+            let level = self.support.blocks[block(self, end - 1)].level;
+            let mut start = end;
+            while start > 0 && self.support.blocks[block(self, start - 1)].level == level {
+                start -= 1;
+            }
+            for k in (start..end).rev() {
+                let g = block(self, k);
+                let body = self.support.blocks[g].body as usize;
+                if self.support.paid.get(body).copied() == Some(self.support.pass) {
+                    self.solve_block(g, sw);
+                }
+            }
+            for k in start..end {
+                self.pay(block(self, k));
+            }
+            end = start;
+        }
+    }
+
+    /// One position pass over island `i`'s blocks, bottom up (see
+    /// [`Self::push_block`]).
+    pub(crate) fn push_island(&mut self, i: usize, sw: &mut Sweep, (rate, cap, rest): (f64, f64, f64)) {
+        for k in 0..self.support.index.of(i).len() {
+            let g = self.support.index.of(i)[k] as usize;
+            self.push_block(g, rate, cap, rest, &mut sw.scratch);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::body::Shape;
+    use crate::world::{BodySpec, Scene, Settings, World};
+
+    /// 1200 cubes tilted at random (a fixed sequence), dropped in three layers
+    /// onto each other and the ground, as `tests/test_threads.py`'s heap.
+    fn heap(threads: u32) -> World {
+        let mut scene = Scene::new([0.0, 0.0, -9.81]).unwrap();
+        let ground = Shape::plane([0.0, 0.0, 1.0], 0.0).unwrap();
+        scene.add_body(BodySpec { shape: Some(ground), fixed: true, ..Default::default() }).unwrap();
+        for k in 0..1200 {
+            let n = k as f64 + 1.0;
+            let axis = nalgebra::Vector3::new((n * 0.754877f64).fract() - 0.5, (n * 0.569840f64).fract() - 0.5, 0.3).normalize();
+            let (s, c) = 0.05f64.sin_cos();
+            let (x, y, z) = ((k % 20) as f64 * 0.23, (k / 20 % 20) as f64 * 0.23, 0.12 + 0.23 * (k / 400) as f64);
+            let cube = Some(Shape::cuboid([0.1; 3]).unwrap());
+            let orientation = [axis.x * s, axis.y * s, axis.z * s, c];
+            scene.add_body(BodySpec { shape: cube, density: Some(500.0), position: [x, y, z], orientation, ..Default::default() }).unwrap();
+        }
+        let mut settings = Settings::new(1.0 / 60.0);
+        settings.sleep.enabled = false;
+        settings.threads = Some(threads);
+        scene.build(&settings).unwrap()
+    }
+
+    fn bits(w: &World) -> Vec<u64> {
+        let b = &w.bodies;
+        (0..b.len())
+            .flat_map(|i| [b.position[i], b.linear_velocity[i], b.angular_velocity[i]].into_iter().flatten().chain(b.orientation[i]))
+            .map(f64::to_bits)
+            .collect()
+    }
+
+    /// The heap's islands are swept in parallel on two threads (checked, so
+    /// that the test tests that), and every step ends in the same bits as on
+    /// one thread.
+    #[test]
+    fn islands_swept_in_parallel_give_the_bits_of_one_thread() {
+        let (mut one, mut two) = (heap(1), heap(2));
+        let mut wide_steps = 0;
+        for _ in 0..40 {
+            one.step(1).unwrap();
+            two.step(1).unwrap();
+            assert!(bits(&one) == bits(&two));
+            wide_steps += two.collision.as_ref().is_some_and(|c| c.solver.wide()) as u32;
+            assert!(!one.collision.as_ref().is_some_and(|c| c.solver.wide()));
+        }
+        assert!(wide_steps >= 10, "the islands were swept in parallel in {wide_steps} steps of 40");
+    }
+}

@@ -41,11 +41,12 @@ def free_bodies(n: int = 13_000) -> rr.World:
 
 # Contact pairs from which a step runs on the pool and splits its narrow phase
 # and the constraints' build over threads (`MIN_PARALLEL_PAIRS` in
-# narrow_phase.rs).
-PARALLEL_PAIRS = 1024
+# narrow_phase.rs). A step with support islands to sweep side by side goes
+# there too: the heap's, checked in Rust (`island_sweeps.rs`).
+PARALLEL_PAIRS = 8192
 
 
-def ball_pit(n: int = 800) -> rr.World:
+def ball_pit(n: int = 3000) -> rr.World:
     """Balls poured in a box, touching from the first step: ball pairs."""
     scene = rr.Scene(gravity=(0, 0, -G))
     scene.add_body(rr.Plane(), fixed=True)
@@ -85,7 +86,7 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "box_heap": box_heap,
     "many_stacks": lambda: stacks(n=400),
 }
-PARALLEL_CONTACTS = ("ball_pit", "box_heap", "many_stacks")
+PARALLEL_CONTACTS = ("ball_pit",)
 
 
 @pytest.mark.parametrize("name", list(BUILDERS))

@@ -130,13 +130,16 @@ enum Found {
     Touching,
 }
 
-/// Pairs kept from the last step below which a step runs on the calling thread
-/// alone. Measured on two cores: a step handed to the pool pays the hand-off
-/// and the pool's idle spinning beside the serial solve, and a 210-box
-/// pyramid (400 pairs) stepped 20 % slower on two threads than on one even
-/// with its narrow phase split; the 820-box pyramid (1600 pairs) and the
-/// 1000-ball pit (2900) step as fast, the 4000-cube pile 7-9 % faster.
-pub const MIN_PARALLEL_PAIRS: usize = 1024;
+/// Pairs kept from the last step from which a step runs on the pool for its
+/// narrow phase and constraints' build alone (a step with support islands to
+/// sweep in parallel goes there anyway: see `solve::island_sweeps`). Measured
+/// on two cores: a step handed to the pool pays the hand-offs, the pool's
+/// idle spinning beside the serial solve and the reading of what one thread
+/// wrote from the other's cache. On two threads against one, with the step
+/// on the pool from 1024 pairs: the 210-box pyramid (400 pairs) 0.8×, the
+/// 820-box pyramid (1600) 0.83×, the 1000-ball pit (2900) 0.88×, a
+/// 3000-ball pit (8400) 0.99–1.03×.
+pub const MIN_PARALLEL_PAIRS: usize = 8192;
 /// Pairs handed to a thread at a time.
 const PAIRS_PER_TASK: usize = 64;
 

@@ -9,9 +9,11 @@ use super::world::PyWorld;
 impl PyWorld {
     /// Worker threads the world's parallel stages use (≥ 1; the build argument
     /// `threads`, all cores by default). Settable; every count gives the same bits.
-    /// Parallel today: the free rotation of 4096 or more bodies of one class, and
-    /// the narrow phase and contact-constraint build of a world with 1024 or more
-    /// contact pairs.
+    /// Parallel today: the free rotation of 4096 or more bodies of one class; the
+    /// support sweeps of the contact solve, island by island, when the last step
+    /// had two islands or more with 128 support blocks between them; in such a
+    /// step, or after 8192 contact pairs or more, the narrow phase and
+    /// contact-constraint build.
     #[getter]
     fn threads(&self) -> usize {
         crate::world::threads::resolve(self.inner.settings().threads)

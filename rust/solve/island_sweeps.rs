@@ -75,6 +75,13 @@ impl ContactSolver {
         self.parallel && self.support.islands >= 2 && self.support.blocks.len() >= MIN_PARALLEL_BLOCKS
     }
 
+    /// Whether some pass of the last step had islands enough to sweep in
+    /// parallel (whatever the threads it had): the next step then goes to the
+    /// pool.
+    pub fn islands_were_split(&self) -> bool {
+        self.support.split
+    }
+
     /// Lists the blocks of each island (after the plan).
     pub(crate) fn index_islands(&mut self) {
         let s = &mut self.support;
@@ -106,7 +113,9 @@ impl ContactSolver {
     /// rocking seen.
     pub(crate) fn in_islands(&mut self, islands: &[u32], work: impl Fn(&mut ContactSolver, usize, &mut Sweep) + Sync) {
         let blocks: usize = islands.iter().map(|&i| self.support.index.of(i as usize).len()).sum();
-        if self.wide() && islands.len() >= 2 && blocks >= MIN_PARALLEL_BLOCKS {
+        let split = islands.len() >= 2 && blocks >= MIN_PARALLEL_BLOCKS;
+        self.support.split |= split;
+        if self.wide() && split {
             let solver = Solver(self as *mut ContactSolver);
             let sweeps: Vec<Sweep> = islands
                 .par_iter()

@@ -61,6 +61,7 @@ impl ContactSolver {
     pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, step: &Preparation) {
         self.start_step(step.h);
         self.parallel = step.parallel;
+        self.support.split = false;
         if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
             let (contexts, jobs) = self.place(narrow, colliders, b);
             self.lay_out(narrow, &contexts, &jobs);

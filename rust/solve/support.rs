@@ -109,6 +109,9 @@ pub struct Support {
     /// The blocks of each island.
     #[serde(skip)]
     pub(crate) index: super::island_sweeps::IslandIndex,
+    /// Some pass of this step had islands enough to sweep in parallel.
+    #[serde(skip)]
+    pub(crate) split: bool,
     pub active: Vec<bool>,
     /// Per world body: the last velocity pass that solved its island, and
     /// the number of the last velocity pass (relax passes do not count).

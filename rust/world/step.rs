@@ -67,15 +67,15 @@ impl World {
         src
     }
 
-    /// One step of `dt`: the plan's stages, substeps and all. A world with
-    /// enough contact pairs runs the whole step on its pool, and only then
-    /// splits its contact stages: the pool's threads, spinning a while after a
-    /// parallel stage, would otherwise take a core from the calling thread (a
-    /// 210-box pyramid whose narrow phase alone went to the pool stepped 30 %
-    /// slower on two threads than on one).
+    /// One step of `dt`: the plan's stages, substeps and all. A world whose
+    /// last step had work enough to split runs the whole step on its pool, and
+    /// only then splits its contact stages: the pool's threads, spinning a
+    /// while after a parallel stage, would otherwise take a core from the
+    /// calling thread (a 210-box pyramid whose narrow phase alone went to the
+    /// pool stepped 30 % slower on two threads than on one).
     pub(crate) fn one_step(&mut self, src: &KickSources) {
         let threads = super::threads::resolve(self.settings.threads);
-        let parallel = threads > 1 && self.many_pairs();
+        let parallel = threads > 1 && self.worth_splitting();
         self.contact_threads = if parallel { threads } else { 1 };
         if parallel {
             super::threads::install(threads, || self.one_step_here(src));
@@ -84,10 +84,14 @@ impl World {
         }
     }
 
-    /// Whether the last step kept enough contact pairs to split its contact
-    /// stages over threads.
-    fn many_pairs(&self) -> bool {
-        self.collision.as_ref().is_some_and(|c| c.narrow.len() >= crate::collide::narrow_phase::MIN_PARALLEL_PAIRS)
+    /// Whether the last step had contact work enough to split over threads:
+    /// support islands to sweep side by side (see `solve::island_sweeps`), or
+    /// so many contact pairs that their narrow phase and constraints' build
+    /// are worth the hand-offs.
+    fn worth_splitting(&self) -> bool {
+        self.collision.as_ref().is_some_and(|c| {
+            c.solver.islands_were_split() || c.narrow.len() >= crate::collide::narrow_phase::MIN_PARALLEL_PAIRS
+        })
     }
 
     fn one_step_here(&mut self, src: &KickSources) {

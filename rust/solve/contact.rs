@@ -184,6 +184,9 @@ pub struct ContactSolver {
     /// may be swept in parallel (see `super::island_sweeps`). Not state.
     #[serde(skip)]
     pub(crate) parallel: bool,
+    /// This step's groups of bodies in contact (see `super::contact_groups`).
+    #[serde(skip)]
+    pub(crate) groups: super::contact_groups::Groups,
 }
 
 /// Any unit vector orthogonal to `n`.

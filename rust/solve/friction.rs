@@ -218,10 +218,20 @@ impl ContactSolver {
     /// One friction pass over the patches solved both ways (support contacts rub
     /// in their blocks, see `super::support`).
     pub fn solve_friction(&mut self) {
-        let (cs, points, patches, bodies) = (&self.constraints, &self.points, &mut self.patches, &mut self.bodies);
-        for &ci in &self.ordinary {
-            rub(&cs[ci as usize], points, &mut patches[ci as usize], bodies);
+        if self.by_groups() {
+            return self.friction_by_groups();
         }
+        let (cs, points, patches, bodies) = (&self.constraints, &self.points, &mut self.patches, &mut self.bodies);
+        rub_each(&self.ordinary, cs, points, patches, bodies);
+    }
+}
+
+/// [`rub`] for the patches of the constraints `list`, in order: the one
+/// place `rub` is inlined (see `super::impulse::solve_each`).
+#[inline(never)]
+pub(super) fn rub_each(list: &[u32], cs: &[Constraint], points: &[Point], patches: &mut [Patch], bodies: &mut [SolverBody]) {
+    for &ci in list {
+        rub(&cs[ci as usize], points, &mut patches[ci as usize], bodies);
     }
 }
 

@@ -46,8 +46,9 @@ impl IslandIndex {
     }
 }
 
-/// The solver, shared by the threads that sweep its islands.
-struct Solver(*mut ContactSolver);
+/// The solver, shared by the threads that sweep its islands (or pass over
+/// its groups: see [`super::contact_groups`]).
+pub(super) struct Solver(pub(super) *mut ContactSolver);
 
 // SAFETY: the threads given a `Solver` sweep disjoint islands (see the module
 // docs): none writes what another reads or writes, and nothing is pushed to or
@@ -56,9 +57,9 @@ unsafe impl Send for Solver {}
 unsafe impl Sync for Solver {}
 
 impl Solver {
-    /// SAFETY: the caller touches only the island it was given.
+    /// SAFETY: the caller touches only the island (or group) it was given.
     #[allow(clippy::mut_from_ref)]
-    unsafe fn get(&self) -> &mut ContactSolver {
+    pub(super) unsafe fn get(&self) -> &mut ContactSolver {
         unsafe { &mut *self.0 }
     }
 }
@@ -219,20 +220,24 @@ mod tests {
             .collect()
     }
 
-    /// The heap's islands are swept in parallel on two threads (checked, so
-    /// that the test tests that), and every step ends in the same bits as on
-    /// one thread.
+    /// The heap's islands are swept, and its groups of contacts passed over,
+    /// in parallel on two threads (checked, so that the test tests that), and
+    /// every step ends in the same bits as on one thread.
     #[test]
-    fn islands_swept_in_parallel_give_the_bits_of_one_thread() {
+    fn islands_and_groups_solved_in_parallel_give_the_bits_of_one_thread() {
         let (mut one, mut two) = (heap(1), heap(2));
-        let mut wide_steps = 0;
+        let (mut wide_steps, mut group_steps) = (0, 0);
         for _ in 0..40 {
             one.step(1).unwrap();
             two.step(1).unwrap();
             assert!(bits(&one) == bits(&two));
-            wide_steps += two.collision.as_ref().is_some_and(|c| c.solver.wide()) as u32;
-            assert!(!one.collision.as_ref().is_some_and(|c| c.solver.wide()));
+            let solver = |w: &World| w.collision.as_ref().map(|c| (c.solver.wide(), c.solver.by_groups()));
+            let (wide, groups) = solver(&two).unwrap_or_default();
+            wide_steps += wide as u32;
+            group_steps += groups as u32;
+            assert_eq!(solver(&one), Some((false, false)));
         }
         assert!(wide_steps >= 10, "the islands were swept in parallel in {wide_steps} steps of 40");
+        assert!(group_steps >= 10, "the groups were passed over in parallel in {group_steps} steps of 40");
     }
 }

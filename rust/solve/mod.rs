@@ -5,6 +5,7 @@
 pub mod active_set;
 pub mod block;
 pub mod contact;
+pub mod contact_groups;
 pub mod friction;
 pub mod generalized;
 pub mod impacts;

@@ -62,6 +62,7 @@ impl ContactSolver {
         self.start_step(step.h);
         self.parallel = step.parallel;
         self.support.split = false;
+        self.forget_groups();
         if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
             let (contexts, jobs) = self.place(narrow, colliders, b);
             self.lay_out(narrow, &contexts, &jobs);

@@ -30,6 +30,17 @@ const ARM_SLACK: f64 = 1e-3;
 /// m/s in a pyramid), below anything a pass leaves to be taken back.
 const QUIET: f64 = 1e-3;
 
+/// What [`ContactSolver::look_at_block`] compares a block with.
+struct Look<'a> {
+    rule: &'a Rule,
+    /// Speed (m/s) under which a block's rows are not looked at.
+    quiet: f64,
+    /// Touching band (m).
+    band: f64,
+    /// The last velocity pass.
+    last: u64,
+}
+
 impl ContactSolver {
     /// Numbers the islands of the support blocks (`Block::island`).
     pub(crate) fn group_blocks(&mut self) {
@@ -72,20 +83,14 @@ impl ContactSolver {
         let band = TOUCHING * REST_DEPTH * self.settings.slop;
         let islands = self.support.islands;
         let (mut worst, mut was_active) = (vec![0.0f64; islands], vec![false; islands]);
+        let look = Look { rule, quiet: QUIET * tol, band, last };
+        let looks = self.look_at_blocks(&look);
         let mut targeted = vec![false; self.support.blocks.len()];
-        for g in 0..self.support.blocks.len() {
-            let b = self.support.blocks[g];
-            let i = b.island as usize;
-            let (speed, moved) = self.block_motion(g);
-            if speed <= QUIET * tol && b.high + moved <= band {
-                worst[i] = worst[i].max(speed);
-            } else {
-                self.block_targets(g, rule);
-                targeted[g] = true;
-                worst[i] = worst[i].max(self.block_residual(g));
-            }
-            let world = self.bodies[b.body as usize].body as usize;
-            was_active[i] |= self.support.disturbed.get(world) == Some(&last);
+        for (g, &(w, t, was)) in looks.iter().enumerate() {
+            let i = self.support.blocks[g].island as usize;
+            worst[i] = worst[i].max(w);
+            was_active[i] |= was;
+            targeted[g] = t;
         }
         let active: Vec<bool> =
             worst.iter().zip(&was_active).map(|(&w, &was)| w > tol || (was && w > QUIET * tol)).collect();
@@ -110,6 +115,38 @@ impl ContactSolver {
         self.support.active = active;
         if !rule.relax {
             self.support.last_velocity_pass = self.support.pass;
+        }
+    }
+
+    /// [`Self::look_at_block`] of every block, on the pool's threads when the
+    /// islands are swept there (each block writes only its rows' targets).
+    fn look_at_blocks(&mut self, look: &Look) -> Vec<(f64, bool, bool)> {
+        let n = self.support.blocks.len();
+        if !self.wide() {
+            return (0..n).map(|g| self.look_at_block(g, look)).collect();
+        }
+        use rayon::prelude::*;
+        let solver = super::island_sweeps::Solver(self as *mut ContactSolver);
+        // SAFETY: each block is given to one thread, and `look_at_block`
+        // writes only the targets of that block's rows.
+        (0..n).into_par_iter().map(|g| unsafe { solver.get() }.look_at_block(g, look)).collect()
+    }
+
+    /// Of block `g`, after the warm start: how far it is from its targets
+    /// (its bound, if it is within the quiet bound without looking at its
+    /// rows; else its rows' targets set and their largest residual), whether
+    /// its rows' targets were set, and whether its island was solved in the
+    /// last velocity pass.
+    fn look_at_block(&mut self, g: usize, look: &Look) -> (f64, bool, bool) {
+        let b = self.support.blocks[g];
+        let (speed, moved) = self.block_motion(g);
+        let world = self.bodies[b.body as usize].body as usize;
+        let was = self.support.disturbed.get(world) == Some(&look.last);
+        if speed <= look.quiet && b.high + moved <= look.band {
+            (speed, false, was)
+        } else {
+            self.block_targets(g, look.rule);
+            (self.block_residual(g), true, was)
         }
     }
 

@@ -34,43 +34,50 @@ impl ContactSolver {
         // into a stack leave that much while the sweeps converge, and taking
         // it back point by point tipped a 30-cube tower at dt = 1/3000 s.
         let tolerance = self.support.substep_gravity();
-        let redo = &self.guard.redo;
-        let (cs, points, patches, bodies) = (&self.constraints, &mut self.points, &mut self.patches, &mut self.bodies);
         let mut released = false;
-        for (ci, c) in cs.iter().enumerate() {
-            // Settled support contacts are solved exactly on a held body.
-            if c.generalized || (c.lower != 0 && c.settled) || !in_pass(redo, c) {
-                continue;
-            }
-            let mut pair = Pair::load(bodies, c);
-            let gap = Gap::new(bodies, c);
-            let (mut before, mut after) = (0.0, 0.0);
-            for p in &mut points[c.start as usize..(c.start + c.len) as usize] {
-                before += p.normal_impulse;
-                if p.normal_impulse > 0.0 {
-                    let s = rule.effective(gap.separation(p));
-                    let excess = pair.normal_velocity(c, p) - rule.push_out_speed(s);
-                    if excess > tolerance {
-                        let d = (p.normal_mass * excess).min(p.normal_impulse);
-                        p.normal_impulse -= d;
-                        pair.apply_normal(c, p, -d);
-                    }
-                }
-                after += p.normal_impulse;
-            }
-            if after < before {
-                released = true;
-                let f = &mut patches[ci];
-                let keep = if before > 0.0 { after / before } else { 0.0 };
-                let d = [f.impulse[0] * (keep - 1.0), f.impulse[1] * (keep - 1.0)];
-                let dt = f.twist * (keep - 1.0);
-                f.impulse = [f.impulse[0] * keep, f.impulse[1] * keep];
-                f.twist *= keep;
-                pair.apply_patch(c, f, d);
-                pair.apply_twist(f, dt);
-            }
-            pair.store(bodies, c);
+        for ci in 0..self.constraints.len() {
+            released |= self.release_one(ci, rule, tolerance);
         }
+        released
+    }
+
+    /// The release of constraint `ci` (see [`Self::release_excess`]): whether
+    /// it gave anything back. `tolerance`: the excess let through (m/s).
+    pub(crate) fn release_one(&mut self, ci: usize, rule: &Rule, tolerance: f64) -> bool {
+        let c = &self.constraints[ci];
+        // Settled support contacts are solved exactly on a held body.
+        if c.generalized || (c.lower != 0 && c.settled) || !in_pass(&self.guard.redo, c) {
+            return false;
+        }
+        let (points, bodies) = (&mut self.points, &mut self.bodies);
+        let mut pair = Pair::load(bodies, c);
+        let gap = Gap::new(bodies, c);
+        let (mut before, mut after) = (0.0, 0.0);
+        for p in &mut points[c.start as usize..(c.start + c.len) as usize] {
+            before += p.normal_impulse;
+            if p.normal_impulse > 0.0 {
+                let s = rule.effective(gap.separation(p));
+                let excess = pair.normal_velocity(c, p) - rule.push_out_speed(s);
+                if excess > tolerance {
+                    let d = (p.normal_mass * excess).min(p.normal_impulse);
+                    p.normal_impulse -= d;
+                    pair.apply_normal(c, p, -d);
+                }
+            }
+            after += p.normal_impulse;
+        }
+        let released = after < before;
+        if released {
+            let f = &mut self.patches[ci];
+            let keep = if before > 0.0 { after / before } else { 0.0 };
+            let d = [f.impulse[0] * (keep - 1.0), f.impulse[1] * (keep - 1.0)];
+            let dt = f.twist * (keep - 1.0);
+            f.impulse = [f.impulse[0] * keep, f.impulse[1] * keep];
+            f.twist *= keep;
+            pair.apply_patch(c, f, d);
+            pair.apply_twist(f, dt);
+        }
+        pair.store(bodies, c);
         released
     }
 }

@@ -101,15 +101,22 @@ impl Pair {
         }
     }
 
-    /// Writes the velocities back (the fixed entry 0 receives zeros unchanged).
+    /// Writes the velocities back. The fixed bodies' entry 0 is left alone:
+    /// its zero velocities come back unchanged (no inverse mass or inertia),
+    /// and the groups passed over in parallel (see `super::contact_groups`)
+    /// all touch it.
     #[inline(always)]
     pub fn store(&self, bodies: &mut [SolverBody], c: &Constraint) {
-        let a = &mut bodies[c.s1 as usize];
-        a.v = self.v1;
-        a.w = self.w1;
-        let b = &mut bodies[c.s2 as usize];
-        b.v = self.v2;
-        b.w = self.w2;
+        if c.s1 != 0 {
+            let a = &mut bodies[c.s1 as usize];
+            a.v = self.v1;
+            a.w = self.w1;
+        }
+        if c.s2 != 0 {
+            let b = &mut bodies[c.s2 as usize];
+            b.v = self.v2;
+            b.w = self.w2;
+        }
     }
 
     #[inline(always)]

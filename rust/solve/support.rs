@@ -181,6 +181,7 @@ impl ContactSolver {
         }
         self.bound_blocks();
         self.index_islands();
+        self.index_groups();
     }
 
     /// The support contacts, their lower sides and the blocks, found from the

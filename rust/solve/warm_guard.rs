@@ -55,7 +55,7 @@ fn kinetic(b: &SolverBody, (v, w): (Vec3, Vec3)) -> f64 {
 /// The groups of dynamic solver bodies connected by contacts (union–find;
 /// fixed and kinematic bodies join nothing): a pump in one pile must not hide
 /// in the energy of a thousand bodies falling elsewhere.
-fn groups(solver: &ContactSolver) -> Vec<u32> {
+pub(crate) fn groups(solver: &ContactSolver) -> Vec<u32> {
     let n = solver.bodies.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     for c in &solver.constraints {

@@ -38,7 +38,7 @@ pub struct IslandIndex {
 
 impl IslandIndex {
     /// The blocks of island `i` (none for an island that does not exist).
-    fn of(&self, i: usize) -> &[u32] {
+    pub(super) fn of(&self, i: usize) -> &[u32] {
         match (self.start.get(i), self.start.get(i + 1)) {
             (Some(&a), Some(&b)) => self.blocks.get(a as usize..b as usize).unwrap_or(&[]),
             _ => &[],

@@ -828,10 +828,10 @@ class World:
     def threads(self) -> int:
         """Worker threads the world's parallel stages use (the build argument ``threads``,
         every core by default); settable (≥ 1). Every count gives the same bits. Parallel
-        today: the free rotation of 4096 or more bodies of one class; the support sweeps of
-        the contact solve, island by island, when the last step had two islands or more
-        with 128 support blocks between them; in such a step, or after 8192 contact pairs or
-        more, the narrow phase and contact-constraint build."""
+        today: the free rotation of 4096 or more bodies of one class; the contact solve,
+        island by island and group by group, when the last step had two islands of support
+        blocks or more with 128 blocks between them; in such a step, or after 8192 contact
+        pairs or more, the narrow phase and contact-constraint build."""
     @threads.setter
     def threads(self, n: int) -> None: ...
     @property

@@ -10,9 +10,9 @@ impl PyWorld {
     /// Worker threads the world's parallel stages use (≥ 1; the build argument
     /// `threads`, all cores by default). Settable; every count gives the same bits.
     /// Parallel today: the free rotation of 4096 or more bodies of one class; the
-    /// support sweeps of the contact solve, island by island, when the last step
-    /// had two islands or more with 128 support blocks between them; in such a
-    /// step, or after 8192 contact pairs or more, the narrow phase and
+    /// contact solve, island by island and group by group, when the last step
+    /// had two islands of support blocks or more with 128 blocks between them;
+    /// in such a step, or after 8192 contact pairs or more, the narrow phase and
     /// contact-constraint build.
     #[getter]
     fn threads(&self) -> usize {

@@ -34,7 +34,7 @@ pub struct Settings {
     /// Articulations: on/off, integrator, substeps (see [`crate::articulation`]).
     pub articulation: crate::articulation::ArticulationSettings,
     /// Worker threads the world's own parallel work may use (≥ 1): the free
-    /// rotation of large groups, the support sweeps of many contact islands,
+    /// rotation of large groups, the contact solve of many contact islands,
     /// and then (or with many contact pairs) the narrow phase and constraint
     /// build. Default (`None`): every core
     /// (`available_parallelism`). The result is bitwise the same for every count

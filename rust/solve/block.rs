@@ -222,10 +222,19 @@ impl ContactSolver {
     pub(crate) fn assemble_blocks(&mut self, all: bool) {
         if all {
             self.lay_out_rows();
-            for g in 0..self.support.blocks.len() {
-                if !self.keep_block(g) {
-                    self.assemble_block(g);
+            let n = self.support.blocks.len();
+            let keep_or_assemble = |cs: &mut ContactSolver, g: usize| {
+                if !cs.keep_block(g) {
+                    cs.assemble_block(g);
                 }
+            };
+            if self.parallel && n >= MIN_PARALLEL_ASSEMBLY {
+                let solver = super::island_sweeps::Solver(self as *mut ContactSolver);
+                // SAFETY: each block is given to one thread, and keeping or
+                // assembling it writes only its rows, `K`, factor and record.
+                (0..n).into_par_iter().for_each(|g| keep_or_assemble(unsafe { solver.get() }, g));
+            } else {
+                (0..n).for_each(|g| keep_or_assemble(self, g));
             }
             return;
         }

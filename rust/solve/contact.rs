@@ -262,26 +262,39 @@ impl ContactSolver {
         if !first {
             self.constraints.iter_mut().for_each(|c| c.fresh = false);
         }
-        for (ci, c) in self.constraints.iter().enumerate() {
-            let mut pair = Pair::load(&self.bodies, c);
-            let mut settled = 0.0;
-            for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
-                if !first {
-                    p.total_normal += p.normal_impulse;
-                }
-                settled += p.normal_impulse;
-                pair.apply_normal(c, p, p.normal_impulse);
-            }
-            let f = &mut self.patches[ci];
-            f.settled = settled;
-            if !first {
-                f.total[0] += f.impulse[0];
-                f.total[1] += f.impulse[1];
-            }
-            pair.apply_patch(c, f, f.impulse);
-            pair.apply_twist(f, f.twist);
-            pair.store(&mut self.bodies, c);
+        if self.by_groups() {
+            return self.warm_start_by_groups(first);
         }
+        for ci in 0..self.constraints.len() {
+            self.warm_one(ci, first);
+        }
+    }
+
+    /// The warm start of constraint `ci` (`first`: the step's first substep,
+    /// whose impulses are not added to the totals). Not inlined: the serial
+    /// and the group-by-group warm starts (`super::contact_groups`) share one
+    /// copy (see `super::impulse::solve_each`).
+    #[inline(never)]
+    pub(crate) fn warm_one(&mut self, ci: usize, first: bool) {
+        let c = &self.constraints[ci];
+        let mut pair = Pair::load(&self.bodies, c);
+        let mut settled = 0.0;
+        for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
+            if !first {
+                p.total_normal += p.normal_impulse;
+            }
+            settled += p.normal_impulse;
+            pair.apply_normal(c, p, p.normal_impulse);
+        }
+        let f = &mut self.patches[ci];
+        f.settled = settled;
+        if !first {
+            f.total[0] += f.impulse[0];
+            f.total[1] += f.impulse[1];
+        }
+        pair.apply_patch(c, f, f.impulse);
+        pair.apply_twist(f, f.twist);
+        pair.store(&mut self.bodies, c);
     }
 
     /// Ends the step: adds the last substep to the totals and keeps the impulses

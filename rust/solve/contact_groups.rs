@@ -1,5 +1,6 @@
 //! The passes over the contacts solved both ways (see [`super::impulse`],
-//! [`super::friction`], [`super::release`]) group by group, the groups in
+//! [`super::friction`], [`super::release`]) and the warm start group by
+//! group, the groups in
 //! parallel, in a step whose support islands are swept in parallel (see
 //! [`super::island_sweeps`]).
 //!
@@ -144,6 +145,16 @@ impl ContactSolver {
             }
             released
         })
+    }
+
+    /// The warm start (see `ContactSolver::warm_start`) group by group.
+    pub(crate) fn warm_start_by_groups(&mut self, first: bool) {
+        self.each_group(|cs, g| {
+            for k in 0..cs.groups.all.of(g).len() {
+                cs.warm_one(cs.groups.all.of(g)[k] as usize, first);
+            }
+            false
+        });
     }
 
     /// The friction pass over the contacts solved both ways, group by group.

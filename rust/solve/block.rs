@@ -222,20 +222,14 @@ impl ContactSolver {
     pub(crate) fn assemble_blocks(&mut self, all: bool) {
         if all {
             self.lay_out_rows();
+            // Keeping or assembling a block writes only its rows, `K`, factor
+            // and record.
             let n = self.support.blocks.len();
-            let keep_or_assemble = |cs: &mut ContactSolver, g: usize| {
+            self.par_map(n, self.parallel && n >= MIN_PARALLEL_ASSEMBLY, |cs, g| {
                 if !cs.keep_block(g) {
                     cs.assemble_block(g);
                 }
-            };
-            if self.parallel && n >= MIN_PARALLEL_ASSEMBLY {
-                let solver = super::island_sweeps::Solver(self as *mut ContactSolver);
-                // SAFETY: each block is given to one thread, and keeping or
-                // assembling it writes only its rows, `K`, factor and record.
-                (0..n).into_par_iter().for_each(|g| keep_or_assemble(unsafe { solver.get() }, g));
-            } else {
-                (0..n).for_each(|g| keep_or_assemble(self, g));
-            }
+            });
             return;
         }
         let dirty = self.support.blocks.iter().filter(|b| b.dirty).count();
@@ -549,21 +543,9 @@ struct Source<'a> {
 /// The dirty blocks, each with its rows; `None` if the rows are not laid out
 /// block after block (as `lay_out_rows` does).
 fn dirty_rows<'a>(blocks: &'a mut [Block], rows: &'a mut [Row]) -> Option<Vec<(&'a mut Block, &'a mut [Row])>> {
-    let mut jobs = Vec::new();
-    let (mut rest, mut at) = (rows, 0usize);
-    for b in blocks.iter_mut() {
-        let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);
-        let tail = std::mem::take(&mut rest).get_mut(r0.checked_sub(at)?..)?;
-        if r1 < r0 || r1 - r0 > tail.len() {
-            return None;
-        }
-        let (mine, tail) = tail.split_at_mut(r1 - r0);
-        (rest, at) = (tail, r1);
-        if b.dirty {
-            jobs.push((b, mine));
-        }
-    }
-    Some(jobs)
+    let ranges = blocks.iter().map(|b| (b.rows.0 as usize, (b.rows.1 as usize).saturating_sub(b.rows.0 as usize)));
+    let runs = super::lists::runs(rows, ranges)?;
+    Some(blocks.iter_mut().zip(runs).filter(|(b, _)| b.dirty).collect())
 }
 
 /// `J`, `M⁻¹Jᵀ` and `Q` of block `b`'s rows (`rows`, its range of

@@ -232,10 +232,9 @@ impl ContactSolver {
     /// The patch of constraint `ci` at its points' current arms, keeping its
     /// impulses and state.
     pub(crate) fn refresh_patch(&mut self, ci: usize) {
-        self.constraints[ci].as_built = false;
-        let c = &self.constraints[ci];
+        let c = &mut self.constraints[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
-        self.patches[ci].set_geometry(c, &self.points[range], &self.bodies);
+        refresh_patch_of(c, &mut self.patches[ci], &self.points[range], &self.bodies);
     }
 
     /// Applies a normal impulse `j` (N·s) at the point.
@@ -371,6 +370,12 @@ pub(crate) fn refresh(c: &mut Constraint, patch: &mut Patch, points: &mut [Point
         }
         normal_mass(p, b1, b2, &normal);
     }
+    refresh_patch_of(c, patch, points, bodies);
+}
+
+/// The patch of constraint `c` at its points' current arms, keeping its
+/// impulses and state.
+fn refresh_patch_of(c: &mut Constraint, patch: &mut Patch, points: &[Point], bodies: &[SolverBody]) {
     c.as_built = false;
     patch.set_geometry(c, points, bodies);
 }

@@ -17,55 +17,15 @@
 
 use super::contact::ContactSolver;
 use super::impulse::Rule;
-use super::island_sweeps::Solver;
-use rayon::prelude::*;
+use super::lists::Lists;
 
 /// The contacts of each group, in order: those solved both ways, and all.
 #[derive(Clone, Default)]
 pub struct Groups {
-    ordinary: Csr,
-    all: Csr,
+    ordinary: Lists,
+    all: Lists,
     /// The passes of this step go group by group.
     ready: bool,
-}
-
-/// Lists of indices, one per group, in one array.
-#[derive(Clone, Default)]
-struct Csr {
-    start: Vec<u32>,
-    items: Vec<u32>,
-}
-
-impl Csr {
-    /// `items` (with the group of each) grouped, each group in their order.
-    fn fill(&mut self, groups: usize, of: impl Iterator<Item = (u32, u32)> + Clone) {
-        self.start.clear();
-        self.start.resize(groups + 1, 0);
-        for (g, _) in of.clone() {
-            self.start[g as usize + 1] += 1;
-        }
-        for g in 0..groups {
-            self.start[g + 1] += self.start[g];
-        }
-        let mut at = self.start.clone();
-        self.items.clear();
-        self.items.resize(self.start[groups] as usize, 0);
-        for (g, item) in of {
-            self.items[at[g as usize] as usize] = item;
-            at[g as usize] += 1;
-        }
-    }
-
-    fn of(&self, g: usize) -> &[u32] {
-        match (self.start.get(g), self.start.get(g + 1)) {
-            (Some(&a), Some(&b)) => self.items.get(a as usize..b as usize).unwrap_or(&[]),
-            _ => &[],
-        }
-    }
-
-    fn groups(&self) -> usize {
-        self.start.len().saturating_sub(1)
-    }
 }
 
 impl ContactSolver {
@@ -109,13 +69,11 @@ impl ContactSolver {
         self.groups.ready
     }
 
-    /// `work` on every group, in parallel; whether any returned true.
+    /// `work` on every group, in parallel (a group's passes touch only its
+    /// bodies, contacts, points and patches); whether any returned true.
     fn each_group(&mut self, work: impl Fn(&mut ContactSolver, usize) -> bool + Sync) -> bool {
-        let n = self.groups.ordinary.groups();
-        let solver = Solver(self as *mut ContactSolver);
-        // SAFETY: each group is given to one thread, and a group's passes
-        // touch only its bodies, contacts, points and patches (module docs).
-        (0..n).into_par_iter().map(|g| work(unsafe { solver.get() }, g)).reduce(|| false, |a, b| a || b)
+        let n = self.groups.ordinary.len();
+        self.par_map(n, true, work).into_iter().any(|r| r)
     }
 
     /// A velocity pass (see `super::impulse`) whose contacts solved both ways

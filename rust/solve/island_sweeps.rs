@@ -29,23 +29,6 @@ pub struct Sweep {
     pub rocking: bool,
 }
 
-/// The blocks of each island, in block order (bottom up), one range each.
-#[derive(Clone, Default)]
-pub struct IslandIndex {
-    start: Vec<u32>,
-    blocks: Vec<u32>,
-}
-
-impl IslandIndex {
-    /// The blocks of island `i` (none for an island that does not exist).
-    pub(super) fn of(&self, i: usize) -> &[u32] {
-        match (self.start.get(i), self.start.get(i + 1)) {
-            (Some(&a), Some(&b)) => self.blocks.get(a as usize..b as usize).unwrap_or(&[]),
-            _ => &[],
-        }
-    }
-}
-
 /// The solver, shared by the threads that sweep its islands (or pass over
 /// its groups: see [`super::contact_groups`]).
 pub(super) struct Solver(pub(super) *mut ContactSolver);
@@ -83,30 +66,24 @@ impl ContactSolver {
         self.support.split
     }
 
-    /// Lists the blocks of each island (after the plan).
+    /// Lists the blocks of each island, in block order (bottom up), after the
+    /// plan.
     pub(crate) fn index_islands(&mut self) {
         let s = &mut self.support;
-        let n = s.islands;
-        let ix = &mut s.index;
-        ix.start.clear();
-        ix.start.resize(n + 1, 0);
-        for b in &s.blocks {
-            if let Some(c) = ix.start.get_mut(b.island as usize + 1) {
-                *c += 1;
-            }
+        s.index.fill(s.islands, s.blocks.iter().enumerate().map(|(g, b)| (b.island, g as u32)));
+    }
+
+    /// `work` on each of `0..n` (blocks, groups), in order, on the pool's
+    /// threads when `parallel`. The caller vouches that `work(k)` touches only
+    /// what belongs to `k` (see `Solver`).
+    pub(super) fn par_map<R: Send>(&mut self, n: usize, parallel: bool, work: impl Fn(&mut ContactSolver, usize) -> R + Sync) -> Vec<R> {
+        if !parallel {
+            return (0..n).map(|k| work(self, k)).collect();
         }
-        for i in 0..n {
-            ix.start[i + 1] += ix.start[i];
-        }
-        let mut fill = ix.start.clone();
-        ix.blocks.clear();
-        ix.blocks.resize(ix.start[n] as usize, 0);
-        for (g, b) in s.blocks.iter().enumerate() {
-            if let Some(at) = fill.get_mut(b.island as usize) {
-                ix.blocks[*at as usize] = g as u32;
-                *at += 1;
-            }
-        }
+        let solver = Solver(self as *mut ContactSolver);
+        // SAFETY: each `k` is given to one thread, and `work(k)` touches only
+        // what belongs to `k` (the caller's promise).
+        (0..n).into_par_iter().map(|k| work(unsafe { solver.get() }, k)).collect()
     }
 
     /// Runs `work` on each of `islands`, in parallel where the pass is large

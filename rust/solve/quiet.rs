@@ -121,15 +121,8 @@ impl ContactSolver {
     /// [`Self::look_at_block`] of every block, on the pool's threads when the
     /// islands are swept there (each block writes only its rows' targets).
     fn look_at_blocks(&mut self, look: &Look) -> Vec<(f64, bool, bool)> {
-        let n = self.support.blocks.len();
-        if !self.wide() {
-            return (0..n).map(|g| self.look_at_block(g, look)).collect();
-        }
-        use rayon::prelude::*;
-        let solver = super::island_sweeps::Solver(self as *mut ContactSolver);
-        // SAFETY: each block is given to one thread, and `look_at_block`
-        // writes only the targets of that block's rows.
-        (0..n).into_par_iter().map(|g| unsafe { solver.get() }.look_at_block(g, look)).collect()
+        let (n, wide) = (self.support.blocks.len(), self.wide());
+        self.par_map(n, wide, |cs, g| cs.look_at_block(g, look))
     }
 
     /// Of block `g`, after the warm start: how far it is from its targets

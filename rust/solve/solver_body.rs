@@ -267,22 +267,12 @@ impl ContactSolver {
     fn refresh_in_parallel(&mut self) -> bool {
         let bodies = &self.bodies;
         let moved = |c: &Constraint| bodies[c.s1 as usize].moved || bodies[c.s2 as usize].moved;
-        let mut jobs = Vec::new();
-        let (mut rest, mut at) = (&mut self.points[..], 0usize);
-        for (c, patch) in self.constraints.iter_mut().zip(self.patches.iter_mut()) {
-            let (p0, n) = (c.start as usize, c.len as usize);
-            let Some(tail) = p0.checked_sub(at).and_then(|skip| std::mem::take(&mut rest).get_mut(skip..)) else {
-                return false;
-            };
-            if n > tail.len() {
-                return false;
-            }
-            let (mine, tail) = tail.split_at_mut(n);
-            (rest, at) = (tail, p0 + n);
-            if moved(c) {
-                jobs.push((c, patch, mine));
-            }
-        }
+        let ranges = self.constraints.iter().map(|c| (c.start as usize, c.len as usize));
+        let Some(runs) = super::lists::runs(&mut self.points, ranges) else {
+            return false;
+        };
+        let all = self.constraints.iter_mut().zip(self.patches.iter_mut()).zip(runs);
+        let mut jobs: Vec<_> = all.filter(|((c, _), _)| moved(c)).map(|((c, patch), points)| (c, patch, points)).collect();
         jobs.par_iter_mut().for_each(|(c, patch, points)| refresh(c, patch, points, bodies));
         let touched: Vec<u32> = jobs.iter().filter(|(c, _, _)| c.lower != 0).map(|(c, _, _)| c.group).collect();
         touched.into_iter().for_each(|g| self.support.touch(g));

@@ -108,7 +108,7 @@ pub struct Support {
     pub islands: usize,
     /// The blocks of each island.
     #[serde(skip)]
-    pub(crate) index: super::island_sweeps::IslandIndex,
+    pub(crate) index: super::lists::Lists,
     /// Some pass of this step had islands enough to sweep in parallel.
     #[serde(skip)]
     pub(crate) split: bool,
@@ -140,13 +140,8 @@ impl ContactSolver {
     /// This step's support blocks, the islands they form and the blocks of
     /// the largest (for profiling).
     pub fn support_blocks(&self) -> (usize, usize, usize) {
-        let mut size = vec![0usize; self.support.islands];
-        for b in &self.support.blocks {
-            if let Some(n) = size.get_mut(b.island as usize) {
-                *n += 1;
-            }
-        }
-        (self.support.blocks.len(), self.support.islands, size.into_iter().max().unwrap_or(0))
+        let largest = (0..self.support.index.len()).map(|i| self.support.index.of(i).len()).max();
+        (self.support.blocks.len(), self.support.islands, largest.unwrap_or(0))
     }
 
     /// Finds the support contacts, their lower sides and the blocks.

@@ -13,6 +13,7 @@ pub mod impulse;
 pub mod island_sweeps;
 pub mod islands;
 pub mod limit_surface;
+pub mod overshoot;
 pub mod lists;
 pub mod position;
 pub mod prepare;

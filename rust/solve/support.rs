@@ -397,10 +397,7 @@ impl ContactSolver {
         let active: Vec<u32> = (0..s.islands as u32).filter(|&i| s.active.get(i as usize) == Some(&true)).collect();
         self.in_islands(&active, |cs, i, sw| cs.sweep_island(i, sw));
         if !self.support.solved.is_empty() {
-            let steps = self.sweep_steps(&active);
-            if steps.iter().any(|&t| t < 1.0) {
-                self.in_islands(&active, |cs, i, _| cs.shorten_island(i, steps.get(i).copied().unwrap_or(1.0)));
-            }
+            self.take_back_overshoot(&active, rule);
         }
     }
 
@@ -461,109 +458,6 @@ impl ContactSolver {
             lo.v += r.jl[0] * (d * lo.inv_m);
             lo.w += lo.inv_i * (r.jl[1] * d);
         }
-    }
-
-    /// Per island, the fraction of the sweeps' change to keep: the one that
-    /// leaves the least violation `Σ (row velocity − target)²` over its rows
-    /// that hold (pushing points, sticking patches), quadratic in the fraction.
-    /// It is 1 where the sweeps solved the blocks exactly (a column, a pyramid
-    /// at rest); less where a lower body was not held as the sweeps assumed and
-    /// they overshot, which would otherwise feed on itself from pass to pass.
-    /// Islands share no body: one that overshoots does not hold back the
-    /// others (with one fraction for all, a tumbling island kept the sweeps of
-    /// every other island of the pile at a fraction of their change). Found
-    /// for the `active` islands (1 for the others, which the sweeps left
-    /// alone), on the pool's threads when the islands were swept there.
-    fn sweep_steps(&self, active: &[u32]) -> Vec<f64> {
-        let mut steps = vec![1.0; self.support.islands];
-        let found: Vec<f64> = if self.wide() {
-            use rayon::prelude::*;
-            active.par_iter().map(|&i| self.island_step(i as usize)).collect()
-        } else {
-            active.iter().map(|&i| self.island_step(i as usize)).collect()
-        };
-        for (&i, t) in active.iter().zip(found) {
-            if let Some(s) = steps.get_mut(i as usize) {
-                *s = t;
-            }
-        }
-        steps
-    }
-
-    /// [`Self::sweep_steps`] of island `i`, over its rows in order.
-    fn island_step(&self, i: usize) -> f64 {
-        let s = &self.support;
-        let (mut along, mut square) = (0.0, 0.0);
-        let now = |k: usize| (self.bodies[k].v, self.bodies[k].w);
-        let before = |k: usize| if s.touched[k] == s.pass { s.start_velocity[k] } else { now(k) };
-        for &g in s.index.of(i) {
-            let block = &s.blocks[g as usize];
-            for ri in block.rows.0 as usize..block.rows.1 as usize {
-                let target = match s.targets[ri] {
-                    Target::Skip => continue,
-                    t => t.value(),
-                };
-                let r = &s.rows[ri];
-                let (upper, lower) = (block.body as usize, r.lower as usize);
-                if s.touched[upper] != s.pass && s.touched[lower] != s.pass {
-                    continue;
-                }
-                let v0 = r.velocity(&before(upper), &before(lower)) - target;
-                let v1 = r.velocity(&now(upper), &now(lower)) - target;
-                let holds = match r.kind {
-                    RowKind::Normal(_) => r.lambda(&self.points, &self.patches) > 0.0 || v0 < 0.0 || v1 < 0.0,
-                    _ => !self.patches[r.face as usize].sliding,
-                };
-                if holds {
-                    along += v0 * (v1 - v0);
-                    square += (v1 - v0) * (v1 - v0);
-                }
-            }
-        }
-        if square > 0.0 {
-            (-along / square).clamp(0.0, 1.0)
-        } else {
-            1.0
-        }
-    }
-
-    /// Keeps `step` of the sweeps' change in the velocities and impulses of
-    /// island `i`: each body it touched, once (then marked untouched), and
-    /// each block solved in this pass.
-    fn shorten_island(&mut self, i: usize, step: f64) {
-        let pass = self.support.pass;
-        for k in 0..self.support.index.of(i).len() {
-            let g = self.support.index.of(i)[k] as usize;
-            let blk = self.support.blocks[g];
-            for ri in blk.rows.0 as usize..blk.rows.1 as usize {
-                for body in [blk.body, self.support.rows[ri].lower] {
-                    self.shorten_body(body as usize, step);
-                }
-            }
-            if blk.solved_pass != pass {
-                continue;
-            }
-            for ri in blk.rows.0 as usize..blk.rows.1 as usize {
-                let r = self.support.rows[ri];
-                let l0 = self.support.start_lambda[ri];
-                let l = r.lambda(&self.points, &self.patches);
-                r.set_lambda(&mut self.points, &mut self.patches, l0 + (l - l0) * step);
-            }
-        }
-    }
-
-    /// Keeps `step` of the change of body `k`'s velocities in this pass, if
-    /// the pass touched it and it was not shortened already.
-    fn shorten_body(&mut self, k: usize, step: f64) {
-        let s = &mut self.support;
-        if s.touched.get(k) != Some(&s.pass) {
-            return;
-        }
-        s.touched[k] = 0;
-        let (v, w) = s.start_velocity[k];
-        let b = &mut self.bodies[k];
-        b.v = v + (b.v - v) * step;
-        b.w = w + (b.w - w) * step;
     }
 }
 

@@ -441,8 +441,9 @@ class Scene:
         distance links at least enough that, in each linked structure, a particle moving at
         √(2·|g|·ℓ) (ℓ its bounding-box diagonal, or its fastest initial speed if faster) travels
         at most 0.1 of the structure's shortest link per substep, up to 1024; ``World.substeps``
-        tells what was chosen; unless given, a step with contacts takes 16 while a slow body
-        rocks on its supports in a settling scene, see ``World.last_substeps``); ``iterations`` contact-solver and joint iterations per substep
+        tells what was chosen; unless given, a step with contacts takes substeps of at most
+        1/960 s (16 at 60 Hz) while a slow body rocks on its supports in a settling scene, see
+        ``World.last_substeps``); ``iterations`` contact-solver and joint iterations per substep
         (default 1). Contacts: ``restitution_threshold``
         (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
         (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
@@ -893,8 +894,8 @@ class World:
         """Substeps per step."""
     @property
     def last_substeps(self) -> int:
-        """Contact substeps the last step took: ``substeps``, or 16 while a slow body rocks on
-        its supports (some points of a face let go while others push) and for 0.5 s after,
+        """Contact substeps the last step took: ``substeps``, or enough for substeps of at most
+        1/960 s (16 at 60 Hz) while a slow body rocks on its supports (some points of a face let go while others push) and for 0.5 s after,
         unless ``substeps`` was given at build; or more if an articulation in contact asked
         for them."""
     def joint_forces(self) -> _F64:

@@ -263,8 +263,9 @@ impl PyWorld {
         self.inner.substeps()
     }
 
-    /// Contact substeps the last step took: `substeps`, or 16 while a slow body
-    /// rocks on its supports and for 0.5 s after (unless `substeps` was given),
+    /// Contact substeps the last step took: `substeps`, or enough for substeps
+    /// of at most 1/960 s (16 at 60 Hz) while a slow body rocks on its
+    /// supports and for 0.5 s after (unless `substeps` was given),
     /// or more if an articulation in contact asked for them.
     #[getter]
     fn last_substeps(&self) -> u32 {

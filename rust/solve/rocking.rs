@@ -9,18 +9,26 @@
 //! 0.2 and 5.6 m/s after 4 s and two of six toppled, though their kick was a
 //! third of the energy that tips a cube (`tests/test_kicked_column.py`).
 //! Repeating the sweeps, solving sliding blocks exactly and softer
-//! Gauss–Seidel did not settle them; 16 substeps settled every one, and is
-//! what a step takes while a slow body rocks, every moving body slow too (the
-//! scene is settling), and for [`HOLD`] after. The whole world takes them
-//! (substeps per island are not done). A scene in motion keeps its substeps:
+//! Gauss–Seidel did not settle them; 16 substeps settled every one. So a step
+//! takes substeps of at most [`ROCKING_SUBSTEP`] (16 at 60 Hz, 32 at 30 Hz,
+//! none added from 240 Hz on at the default 4) while a slow body rocks, every
+//! moving body slow too (the scene is settling), and for [`HOLD`] after. The
+//! whole world takes them (substeps per island are not done). A scene in motion keeps its substeps:
 //! with rocking alone as the sign, a tumbling 4000-cube pile, where some slow
 //! cube always rocks, took 16 substeps throughout (3.3× the time).
 
 use super::block::{RowKind, Scratch};
 use super::contact::ContactSolver;
 
-/// Substeps of a step while a slow body rocks.
-const SUBSTEPS: u32 = 16;
+/// Longest substep (s) while a slow body rocks: 1/960 s, 16 substeps at
+/// 60 Hz. A length, not a count: 16 substeps at 1 kHz (62.5 µs each) left
+/// kicked towers jittering at 1–9 cm/s for ever, 33 of 36 of them
+/// (`examples/tower_matrix.rs`), where the default 4 (250 µs) brings all 36
+/// to rest; at 30 Hz, 16 substeps (2.1 ms) stood 28 of 36 and 32 stood 35.
+const ROCKING_SUBSTEP: f64 = 1.0 / 960.0;
+
+/// Round-off allowed in `dt / ROCKING_SUBSTEP`: 1/60 s takes 16, not 17.
+const COUNT_SLACK: f64 = 1e-9;
 
 /// Fastest speed of a rocking body's points (in substeps of gravity, `g h`, h
 /// the substep the step took: 0.65 m/s at 60 Hz and 4 substeps, 0.16 m/s
@@ -30,12 +38,12 @@ const SUBSTEPS: u32 = 16;
 /// ([`super::support`]). The kicked columns rock at 0.1–0.3 m/s.
 const SLOW: f64 = 16.0;
 
-/// How long (s) the steps keep [`SUBSTEPS`] after the last rocking seen: a
+/// How long (s) the steps keep the rocking substeps after the last rocking seen: a
 /// column that stops rocking for a step is not yet at rest.
 const HOLD: f64 = 0.5;
 
 /// What the velocity passes of a step saw, and how many more steps take
-/// [`SUBSTEPS`].
+/// the rocking substeps.
 #[derive(Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub struct Rocking {
     pub seen: bool,
@@ -54,8 +62,13 @@ impl Rocking {
             return base;
         }
         self.hold -= 1;
-        base.max(SUBSTEPS)
+        base.max(rocking_substeps(dt))
     }
+}
+
+/// Substeps of a step of `dt` (s) no longer than [`ROCKING_SUBSTEP`].
+fn rocking_substeps(dt: f64) -> u32 {
+    (dt / ROCKING_SUBSTEP - COUNT_SLACK).ceil().clamp(1.0, u32::MAX as f64) as u32
 }
 
 impl ContactSolver {
@@ -106,11 +119,22 @@ mod tests {
         r.seen = true;
         let taken: Vec<u32> = (0..32).map(|_| r.substeps(4, dt, false, true)).collect();
         // 0.5 s at 60 Hz: 30 steps, then the world's own again.
-        assert!(taken[..30].iter().all(|&n| n == SUBSTEPS), "{taken:?}");
+        assert!(taken[..30].iter().all(|&n| n == 16), "{taken:?}");
         assert_eq!(&taken[30..], &[4, 4]);
         // Substeps given, or a scene in motion: the world's.
         assert_eq!(Rocking { seen: true, hold: 0 }.substeps(4, dt, true, true), 4);
         assert_eq!(Rocking { seen: true, hold: 0 }.substeps(4, dt, false, false), 4);
         assert_eq!(Rocking { seen: true, hold: 0 }.substeps(20, dt, false, true), 20);
+    }
+
+    #[test]
+    fn rocking_substeps_are_at_most_a_960th_of_a_second() {
+        // dt / (1/960 s), rounded up: 1/60 s is 16 exactly, not 17 by round-off.
+        for (dt, n) in [(1.0 / 30.0, 32), (1.0 / 60.0, 16), (1.0 / 120.0, 8), (1.0 / 240.0, 4), (1e-3, 1), (0.02, 20)] {
+            assert_eq!(rocking_substeps(dt), n, "dt {dt}");
+        }
+        // At 1 kHz the world's 4 are shorter already: nothing is added.
+        let mut r = Rocking { seen: true, hold: 0 };
+        assert_eq!(r.substeps(4, 1e-3, false, true), 4);
     }
 }

@@ -53,15 +53,17 @@ impl ContactSolver {
     /// One Gauss–Seidel pass over the support contacts of island `i`, block by
     /// block bottom up: the normals both ways, then the friction of each patch.
     fn island_gauss_seidel(&mut self, i: usize, rule: &Rule) {
-        let blocks = self.support.index.of(i);
-        let mut faces = Vec::new();
-        for &g in blocks {
-            let b = self.support.blocks[g as usize];
-            faces.extend_from_slice(&self.support.faces[b.faces.0 as usize..b.faces.1 as usize]);
+        let (s, every) = (&self.support, &[][..]);
+        let faces = |g: &u32| {
+            let b = &s.blocks[*g as usize];
+            &s.faces[b.faces.0 as usize..b.faces.1 as usize]
+        };
+        for list in s.index.of(i).iter().map(faces) {
+            super::impulse::solve_each(list, &self.constraints, &mut self.points, &mut self.bodies, (every, rule));
         }
-        let every: &[bool] = &[];
-        super::impulse::solve_each(&faces, &self.constraints, &mut self.points, &mut self.bodies, (every, rule));
-        super::friction::rub_each(&faces, &self.constraints, &self.points, &mut self.patches, &mut self.bodies);
+        for list in s.index.of(i).iter().map(faces) {
+            super::friction::rub_each(list, &self.constraints, &self.points, &mut self.patches, &mut self.bodies);
+        }
     }
 
     /// Per island, the fraction of the sweeps' change to keep: the one that

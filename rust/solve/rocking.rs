@@ -13,8 +13,8 @@
 //! takes substeps of at most [`ROCKING_SUBSTEP`] (16 at 60 Hz, 32 at 30 Hz,
 //! none added from 240 Hz on at the default 4) while a slow body rocks, every
 //! moving body slow too (the scene is settling), and for [`HOLD`] after. The
-//! whole world takes them (substeps per island are not done). A scene in motion keeps its substeps:
-//! with rocking alone as the sign, a tumbling 4000-cube pile, where some slow
+//! whole world takes them (substeps per island are not done). A scene in
+//! motion keeps its substeps: with rocking alone as the sign, a tumbling 4000-cube pile, where some slow
 //! cube always rocks, took 16 substeps throughout (3.3× the time).
 
 use super::block::{RowKind, Scratch};
@@ -22,9 +22,10 @@ use super::contact::ContactSolver;
 
 /// Longest substep (s) while a slow body rocks: 1/960 s, 16 substeps at
 /// 60 Hz. A length, not a count: 16 substeps at 1 kHz (62.5 µs each) left
-/// kicked towers jittering at 1–9 cm/s for ever, 33 of 36 of them
-/// (`examples/tower_matrix.rs`), where the default 4 (250 µs) brings all 36
-/// to rest; at 30 Hz, 16 substeps (2.1 ms) stood 28 of 36 and 32 stood 35.
+/// kicked towers jittering at 1–9 cm/s for ever, 26 of 36 of them
+/// (`examples/tower_matrix.rs`, with the Gauss–Seidel pass of
+/// [`super::overshoot`]; 34 without), where the default 4 (250 µs) brings all
+/// 36 to rest; at 30 Hz, 16 substeps (2.1 ms) stood 28 of 36 and 32 stood 35.
 const ROCKING_SUBSTEP: f64 = 1.0 / 960.0;
 
 /// Excess of `dt / ROCKING_SUBSTEP` over a whole number taken as round-off (a

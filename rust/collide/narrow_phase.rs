@@ -147,14 +147,20 @@ const PAIRS_PER_TASK: usize = 64;
 /// two bodies that hold their shapes are further apart than the prediction (the
 /// pair is left as it was), else whether some point is within it.
 fn step_pair(state: &mut PairState, colliders: &[Collider], bodies: &Bodies, pred: &Prediction) -> Option<bool> {
+    let (approach, prediction) = reach_of(colliders, bodies, state.key, pred)?;
     let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
-    let approach = Approach::of(c1, c2, bodies, pred);
-    let prediction = prediction_of(c1, c2, &approach, pred);
-    if far_apart(c1, c2, bodies, prediction) {
-        return None;
-    }
     state.prediction = super::passing::narrowed(c1, c2, bodies, pred, &approach, prediction);
     Some(update_pair(state, c1, c2, bodies))
+}
+
+/// How collider pair `key` approaches and how far ahead its contacts are
+/// predicted (m), or `None` if the balls around the two bodies that hold their
+/// shapes are further apart than that.
+fn reach_of(colliders: &[Collider], bodies: &Bodies, key: (u32, u32), pred: &Prediction) -> Option<(Approach, f64)> {
+    let (c1, c2) = (&colliders[key.0 as usize], &colliders[key.1 as usize]);
+    let approach = Approach::of(c1, c2, bodies, pred);
+    let prediction = prediction_of(c1, c2, &approach, pred);
+    (!far_apart(c1, c2, bodies, prediction)).then_some((approach, prediction))
 }
 
 /// How far ahead (m) contacts are predicted for a pair.
@@ -184,7 +190,8 @@ impl NarrowPhase {
         self.touching.clear();
         self.found.clear();
         self.found.resize(self.pairs.len(), Found::Idle);
-        self.match_candidates(candidates, dormant);
+        let within_reach = |key: (u32, u32)| reach_of(colliders, bodies, key, pred).is_some();
+        self.match_candidates(candidates, dormant, within_reach);
         let step = |(state, found): (&mut PairState, &mut Found)| {
             if *found == Found::Due {
                 *found = match step_pair(state, colliders, bodies, pred) {
@@ -218,9 +225,14 @@ impl NarrowPhase {
     }
 
     /// Matches the candidates to the kept pairs by a merge: the order becomes the
-    /// candidates (claiming a slot for each new one, marked due) and the kept
-    /// dormant pairs; the others are freed.
-    fn match_candidates(&mut self, candidates: &[(u32, u32)], dormant: impl Fn(u32, u32) -> bool) {
+    /// candidates (claiming a slot for each new one `within_reach`, marked
+    /// due) and the kept dormant pairs; the others are freed.
+    ///
+    /// A new candidate out of reach (its bounding boxes overlap, its bounding
+    /// balls do not: the diagonal neighbours in a ball pit, 1800 of 4700
+    /// candidates a step) gets no slot: claimed and freed again every step,
+    /// those slots were 5 % of the pit's step.
+    fn match_candidates(&mut self, candidates: &[(u32, u32)], dormant: impl Fn(u32, u32) -> bool, within_reach: impl Fn((u32, u32)) -> bool) {
         let mut last = std::mem::take(&mut self.spare);
         last.clear();
         std::mem::swap(&mut last, &mut self.order);
@@ -234,7 +246,11 @@ impl NarrowPhase {
                     self.keep_if(dormant(k.0, k.1), k, slot);
                 }
             }
-            let slot = found.unwrap_or_else(|| self.claim(key));
+            let slot = match found {
+                Some(slot) => slot,
+                None if within_reach(key) => self.claim(key),
+                None => continue,
+            };
             self.order.push((key, slot));
             if self.found.len() < self.pairs.len() {
                 self.found.resize(self.pairs.len(), Found::Idle);

@@ -9,32 +9,39 @@ use crate::body::Bodies;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// A body as the solver sees it. Entry 0 stands for every fixed body.
+///
+/// Laid out in this order (`repr(C)`) so that what a pass reads of a body for
+/// every contact (velocities, inverse mass, pose change, flags) comes first,
+/// in two cache lines rather than the three the compiler's order spread it
+/// over: a 1000-ball pit's bodies are read at random, 6 000 times a pass.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
 pub struct SolverBody {
     pub v: Vec3,
     pub w: Vec3,
-    /// Position and rotation change since the step start.
-    pub dp: Vec3,
-    pub dq: Quat,
     pub inv_m: f64,
-    pub inv_i: Mat3,
-    /// The inverse inertia is `iso · 1` whatever the body's orientation (a
-    /// uniform ball, a cube; fixed bodies, at 0): `inv_i` is kept exactly that
-    /// and products with it are scalings (see [`SolverBody::inv_i_mul`]).
-    pub iso: Option<f64>,
-    /// Index in the world's bodies, and whether its velocities are written back.
-    pub body: u32,
+    /// Position and rotation change since the step start.
+    pub dq: Quat,
+    pub dp: Vec3,
+    /// Whether its velocities are written back.
     pub dynamic: bool,
     /// A ball: its contact points stay put on its surface while it spins, so its
     /// anchors move with its centre only.
     pub round: bool,
+    /// Moved by the position pass since its pose was gathered.
+    pub pushed: bool,
+    pub moved: bool,
+    /// Index in the world's bodies.
+    pub body: u32,
+    /// The inverse inertia is `iso · 1` whatever the body's orientation (a
+    /// uniform ball, a cube; fixed bodies, at 0): `inv_i` is kept exactly that
+    /// and products with it are scalings (see [`SolverBody::inv_i_mul`]).
+    pub iso: Option<f64>,
+    pub inv_i: Mat3,
     /// Pose change at the last refresh of its constraints' arms, and whether it
     /// has moved since by more than round-off (see `gather`).
     pub dp_ref: Vec3,
     pub dq_ref: Quat,
-    pub moved: bool,
-    /// Moved by the position pass since its pose was gathered.
-    pub pushed: bool,
 }
 
 impl SolverBody {

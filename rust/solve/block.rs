@@ -276,7 +276,7 @@ impl ContactSolver {
                 if c.static_friction > 0.0 {
                     push(RowKind::Tangent(0));
                     push(RowKind::Tangent(1));
-                    if self.patches[ci as usize].shape.lever > 0.0 {
+                    if self.patches[ci as usize].lever > 0.0 {
                         push(RowKind::Twist);
                     }
                 }
@@ -463,7 +463,7 @@ impl ContactSolver {
             }
             let (c, f) = (&self.constraints[face as usize], &self.patches[face as usize]);
             let hold = if f.sliding { c.friction } else { c.static_friction } * normal.max(f.settled);
-            if !inside(tangent, twist, hold, f.shape.lever, tiny) {
+            if !inside(tangent, twist, hold, f.lever, tiny) {
                 return false;
             }
         }

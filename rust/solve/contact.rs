@@ -10,6 +10,7 @@
 //! solve phase, so its inner loops read one contiguous record per body.
 
 use super::friction::Patch;
+use super::limit_surface::PatchShape;
 use super::soft::Softness;
 use super::solver_body::{Gap, Pair, SolverBody};
 use crate::body::Bodies;
@@ -156,6 +157,8 @@ pub struct ContactSolver {
     pub constraints: Vec<Constraint>,
     /// The friction patch of each constraint (same index).
     pub patches: Vec<Patch>,
+    /// The polygon of each patch (same index; see [`Patch::lever`]).
+    pub shapes: Vec<PatchShape>,
     pub points: Vec<Point>,
     pub bodies: Vec<SolverBody>,
     /// Constraints solved both ways, and the support blocks.
@@ -222,7 +225,7 @@ impl ContactSolver {
     pub(crate) fn refresh_constraint(&mut self, ci: usize) {
         let c = &mut self.constraints[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
-        refresh(c, &mut self.patches[ci], &mut self.points[range], &self.bodies);
+        refresh(c, (&mut self.patches[ci], &mut self.shapes[ci]), &mut self.points[range], &self.bodies);
         let (lower, group) = (c.lower, c.group);
         if lower != 0 {
             self.support.touch(group);
@@ -234,7 +237,7 @@ impl ContactSolver {
     pub(crate) fn refresh_patch(&mut self, ci: usize) {
         let c = &mut self.constraints[ci];
         let range = c.start as usize..(c.start + c.len) as usize;
-        refresh_patch_of(c, &mut self.patches[ci], &self.points[range], &self.bodies);
+        refresh_patch_of(c, (&mut self.patches[ci], &mut self.shapes[ci]), &self.points[range], &self.bodies);
     }
 
     /// Applies a normal impulse `j` (N·s) at the point.
@@ -346,7 +349,7 @@ impl ContactSolver {
 /// [`ContactSolver::refresh_constraint`] of constraint `c`, its patch and its
 /// points, on the solver bodies `bodies` (the touch of its block left to the
 /// caller).
-pub(crate) fn refresh(c: &mut Constraint, patch: &mut Patch, points: &mut [Point], bodies: &[SolverBody]) {
+pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), points: &mut [Point], bodies: &[SolverBody]) {
     let (s1, s2, normal) = (c.s1, c.s2, c.normal);
     let (b1, b2) = (&bodies[s1 as usize], &bodies[s2 as usize]);
     let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
@@ -375,9 +378,9 @@ pub(crate) fn refresh(c: &mut Constraint, patch: &mut Patch, points: &mut [Point
 
 /// The patch of constraint `c` at its points' current arms, keeping its
 /// impulses and state.
-fn refresh_patch_of(c: &mut Constraint, patch: &mut Patch, points: &[Point], bodies: &[SolverBody]) {
+fn refresh_patch_of(c: &mut Constraint, (patch, shape): (&mut Patch, &mut PatchShape), points: &[Point], bodies: &[SolverBody]) {
     c.as_built = false;
-    patch.set_geometry(c, points, bodies);
+    patch.set_geometry(shape, c, points, bodies);
 }
 
 /// Arms across the normal and the effective mass of a point.

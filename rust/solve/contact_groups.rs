@@ -120,7 +120,7 @@ impl ContactSolver {
     pub(crate) fn friction_by_groups(&mut self) {
         self.each_group(|cs, g| {
             let list = cs.groups.ordinary.of(g);
-            super::friction::rub_each(list, &cs.constraints, &cs.points, &mut cs.patches, &mut cs.bodies);
+            super::friction::rub_each(list, &cs.constraints, &cs.points, (&mut cs.patches, &cs.shapes), &mut cs.bodies);
             false
         });
     }

@@ -50,9 +50,12 @@ pub struct Patch {
     /// together, `[k00, k01, k02, k11, k12, k22]` (the tangent block alone when
     /// the patch has no lever).
     pub friction_mass: [f64; 6],
-    /// The patch's polygon in its tangent plane and its lever (see
-    /// [`PatchShape`]).
-    pub shape: PatchShape,
+    /// The lever of the patch's twist (m; see [`PatchShape`]), 0 for a patch
+    /// of one point. The polygon itself is kept apart, in
+    /// `ContactSolver::shapes` (same index): only a patch that slides reads
+    /// it, and inside the patch its 128 bytes were a quarter of what every
+    /// friction pass streams through (a 1000-ball pit's patches have none).
+    pub lever: f64,
     /// Accumulated impulses of the current substep (N·s, N·m·s).
     pub impulse: [f64; 2],
     pub twist: f64,
@@ -66,14 +69,15 @@ pub struct Patch {
 }
 
 impl Patch {
-    /// Arms, effective masses and lever of the patch of `points` at their centre.
-    pub fn new(c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> Self {
-        let mut f = Patch::default();
-        f.set_geometry(c, points, bodies);
-        f
+    /// Arms, effective masses, lever and polygon of the patch of `points` at
+    /// their centre.
+    pub fn new(c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Self, PatchShape) {
+        let (mut f, mut shape) = (Patch::default(), PatchShape::default());
+        f.set_geometry(&mut shape, c, points, bodies);
+        (f, shape)
     }
 
-    /// A patch with the geometry of `o` (arms, effective masses, shape) and no
+    /// A patch with the geometry of `o` (arms, effective masses, lever) and no
     /// impulses.
     pub fn with_geometry_of(o: &Patch) -> Self {
         Patch {
@@ -85,23 +89,24 @@ impl Patch {
             in2: o.in2,
             tangent_mass: o.tangent_mass,
             friction_mass: o.friction_mass,
-            shape: o.shape,
+            lever: o.lever,
             ..Default::default()
         }
     }
 
-    /// Brings the arms, effective masses and lever up to the points' current arms,
-    /// keeping the impulses and regime.
-    pub fn set_geometry(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
+    /// Brings the arms, effective masses, lever and polygon (`shape`) up to
+    /// the points' current arms, keeping the impulses and regime.
+    pub fn set_geometry(&mut self, shape: &mut PatchShape, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
         let (a1, a2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
         let f = self;
         let (r1, r2) = if points.len() == 1 {
             // One point (a ball's) is its own patch, with no lever.
-            f.shape = PatchShape::default();
+            *shape = PatchShape::default();
             (points[0].r1, points[0].r2)
         } else {
-            f.patch_of_touching(c, points, bodies)
+            patch_of_touching(shape, c, points, bodies)
         };
+        f.lever = shape.lever;
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);
@@ -117,7 +122,7 @@ impl Patch {
         f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
         // A patch of one point (a ball, an edge touching a face) has no lever for
         // a twist: no torsional friction.
-        f.friction_mass = if f.shape.lever > 0.0 {
+        f.friction_mass = if f.lever > 0.0 {
             let tw = |a: usize| f.rt1[a].dot(&f.in1) + f.rt2[a].dot(&f.in2);
             let kww = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
             invert3([a, b, tw(0), cc, tw(1), kww])
@@ -127,52 +132,29 @@ impl Patch {
         };
     }
 
-    /// The patch of the points that touch, and its centre's arms on each body.
-    ///
-    /// The patch is where the bodies touch: a point predicted ahead (the rim of
-    /// a spinning top, inches above the floor) carries no friction and must not
-    /// move the patch's centre or give it a lever. If none touches yet, the
-    /// nearest ones.
-    fn patch_of_touching(&mut self, c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Vec3, Vec3) {
-        let gap = Gap::new(bodies, c);
-        let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
-        let reach = touch_reach(nearest);
-        let touching = |p: &&Point| gap.separation(p) <= reach;
-        let n = points.iter().filter(touching).count().max(1) as f64;
-        let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;
-        let r2 = points.iter().filter(touching).map(|p| p.r2).sum::<Vec3>() / n;
-        let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
-        let mut k = 0;
-        for p in points.iter().filter(touching).take(flat.len()) {
-            let d = p.r1 - r1;
-            flat[k] = [d.dot(&c.t1), d.dot(&c.t2)];
-            k += 1;
-        }
-        self.shape = if k > 1 { PatchShape::new(&flat[..k]) } else { PatchShape::default() };
-        (r1, r2)
-    }
-
     /// The friction force and twist after one solve, within the limit of normal
     /// impulse `jn`, given the slip `v` at the centre and the spin `w` about the
     /// normal; updates the regime.
     #[inline(always)]
-    pub fn rub(&mut self, c: &Constraint, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
-        let lever = self.shape.lever;
+    pub fn rub(&mut self, shape: &PatchShape, c: &Constraint, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
+        let lever = self.lever;
         let w = if lever > 0.0 { w } else { 0.0 };
         let d = mul3(&self.friction_mass, [-v[0], -v[1], -w]);
         let cand = [self.impulse[0] + d[0], self.impulse[1] + d[1]];
         let cand_twist = if lever > 0.0 { self.twist + d[2] } else { 0.0 };
-        self.settle(c, cand, cand_twist, v, w, jn)
+        self.settle(shape, c, cand, cand_twist, v, w, jn)
     }
 
-    /// The friction of the patch given the impulse `cand`, `cand_twist` that
-    /// would stop it: that one if it fits the limit (it sticks), else Coulomb
-    /// over the patch for its slip `v` and spin `w` (it slides).
+    /// The friction of the patch (polygon `shape`) given the impulse `cand`,
+    /// `cand_twist` that would stop it: that one if it fits the limit (it
+    /// sticks), else Coulomb over the patch for its slip `v` and spin `w` (it
+    /// slides).
     #[inline(always)]
-    pub fn settle(&mut self, c: &Constraint, cand: [f64; 2], cand_twist: f64, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
+    #[allow(clippy::too_many_arguments)]
+    pub fn settle(&mut self, shape: &PatchShape, c: &Constraint, cand: [f64; 2], cand_twist: f64, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
         // Whether it sticks is judged on at least the settled normal impulse; how
         // hard it rubs when it slides, on this pass's.
-        let lever = self.shape.lever;
+        let lever = self.lever;
         let hold = if self.sliding { c.friction } else { c.static_friction } * jn.max(self.settled);
         if inside(cand, cand_twist, hold, lever, 0.0) {
             self.sliding = false;
@@ -180,7 +162,7 @@ impl Patch {
         }
         self.sliding = true;
         if (v[0] * v[0] + v[1] * v[1]).sqrt() + lever * w.abs() > SLIP_EPS {
-            self.shape.sliding(v, w, c.friction * jn)
+            shape.sliding(v, w, c.friction * jn)
         } else {
             onto(cand, cand_twist, c.friction * jn, lever)
         }
@@ -214,6 +196,32 @@ impl Patch {
     }
 }
 
+/// The patch of the points that touch (its polygon into `shape`), and its
+/// centre's arms on each body.
+///
+/// The patch is where the bodies touch: a point predicted ahead (the rim of
+/// a spinning top, inches above the floor) carries no friction and must not
+/// move the patch's centre or give it a lever. If none touches yet, the
+/// nearest ones.
+fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Vec3, Vec3) {
+    let gap = Gap::new(bodies, c);
+    let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
+    let reach = touch_reach(nearest);
+    let touching = |p: &&Point| gap.separation(p) <= reach;
+    let n = points.iter().filter(touching).count().max(1) as f64;
+    let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;
+    let r2 = points.iter().filter(touching).map(|p| p.r2).sum::<Vec3>() / n;
+    let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
+    let mut k = 0;
+    for p in points.iter().filter(touching).take(flat.len()) {
+        let d = p.r1 - r1;
+        flat[k] = [d.dot(&c.t1), d.dot(&c.t2)];
+        k += 1;
+    }
+    *shape = if k > 1 { PatchShape::new(&flat[..k]) } else { PatchShape::default() };
+    (r1, r2)
+}
+
 impl ContactSolver {
     /// One friction pass over the patches solved both ways (support contacts rub
     /// in their blocks, see `super::support`).
@@ -221,23 +229,23 @@ impl ContactSolver {
         if self.by_groups() {
             return self.friction_by_groups();
         }
-        let (cs, points, patches, bodies) = (&self.constraints, &self.points, &mut self.patches, &mut self.bodies);
-        rub_each(&self.ordinary, cs, points, patches, bodies);
+        let (cs, points, bodies) = (&self.constraints, &self.points, &mut self.bodies);
+        rub_each(&self.ordinary, cs, points, (&mut self.patches, &self.shapes), bodies);
     }
 }
 
 /// [`rub`] for the patches of the constraints `list`, in order: the one
 /// place `rub` is inlined (see `super::impulse::solve_each`).
 #[inline(never)]
-pub(super) fn rub_each(list: &[u32], cs: &[Constraint], points: &[Point], patches: &mut [Patch], bodies: &mut [SolverBody]) {
+pub(super) fn rub_each(list: &[u32], cs: &[Constraint], points: &[Point], (patches, shapes): (&mut [Patch], &[PatchShape]), bodies: &mut [SolverBody]) {
     for &ci in list {
-        rub(&cs[ci as usize], points, &mut patches[ci as usize], bodies);
+        rub(&cs[ci as usize], points, (&mut patches[ci as usize], &shapes[ci as usize]), bodies);
     }
 }
 
 /// One friction solve of the patch of constraint `c`.
 #[inline(always)]
-fn rub(c: &Constraint, points: &[Point], f: &mut Patch, bodies: &mut [SolverBody]) {
+fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), bodies: &mut [SolverBody]) {
     if c.static_friction == 0.0 {
         return;
     }
@@ -247,7 +255,7 @@ fn rub(c: &Constraint, points: &[Point], f: &mut Patch, bodies: &mut [SolverBody
         return;
     }
     let mut pair = Pair::load(bodies, c);
-    let (l, twist) = f.rub(c, pair.patch_velocity(c, f), pair.twist_velocity(c), jn);
+    let (l, twist) = f.rub(shape, c, pair.patch_velocity(c, f), pair.twist_velocity(c), jn);
     let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
     let dt = twist - f.twist;
     f.impulse = l;

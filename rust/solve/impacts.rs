@@ -86,6 +86,7 @@ impl ContactSolver {
         let total = self.bounce(b, &fresh, h - t_c, src);
         self.constraints.truncate(first_c);
         self.patches.truncate(first_c);
+        self.shapes.truncate(first_c);
         self.points.truncate(first_p);
         self.points[c.start as usize].total_normal += c.normal.dot(&total);
         let f = &mut self.patches[ci];

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use super::contact::{normal_mass, orthonormal, Constraint, ContactSolver, PairContext, Point};
 use super::friction::Patch;
+use super::limit_surface::PatchShape;
 use super::reuse::{self, Previous};
 use super::soft::Softness;
 use super::solver_body::SolverBody;
@@ -70,6 +71,7 @@ impl ContactSolver {
             self.constraints.clear();
             self.points.clear();
             self.patches.clear();
+            self.shapes.clear();
             // One pass: each manifold's points are written once, while in cache.
             for &slot in &narrow.touching {
                 let state = &narrow.pairs[slot as usize];
@@ -139,6 +141,7 @@ impl ContactSolver {
         fit(&mut self.points, points);
         fit(&mut self.constraints, jobs.len());
         fit(&mut self.patches, jobs.len());
+        fit(&mut self.shapes, jobs.len());
         self.previous.kept.resize(jobs.len(), reuse::NONE);
         let (mut rest, mut parts) = (&mut self.points[..], Vec::with_capacity(jobs.len()));
         for j in jobs {
@@ -148,7 +151,7 @@ impl ContactSolver {
         }
         let mut kept = std::mem::take(&mut self.previous.kept);
         let shared = Shared { bodies: &self.bodies, previous: &self.previous };
-        let one = |((((j, pts), c), f), k): ((((&Job, &mut &mut [Point]), &mut Constraint), &mut Patch), &mut u32)| {
+        let one = |((((j, pts), c), (f, shape)), k): ((((&Job, &mut &mut [Point]), &mut Constraint), (&mut Patch, &mut PatchShape)), &mut u32)| {
             let ctx = &contexts[j.ctx as usize];
             let state = &narrow.pairs[ctx.slot as usize];
             let Some((_, manifold)) = state.contacts().find(|(m, _)| *m == j.manifold) else { return };
@@ -156,13 +159,13 @@ impl ContactSolver {
             let mut slots = pts.iter_mut();
             src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
             let (constraint, kept) = shared.constraint(j, &src, pts);
-            *f = shared.patch(&constraint, kept, &src, pts);
+            (*f, *shape) = shared.patch(&constraint, kept, &src, pts);
             *c = constraint;
             *k = kept.map_or(reuse::NONE, |o| o as u32);
         };
-        let (constraints, patches) = (&mut self.constraints, &mut self.patches);
+        let (constraints, patches) = (&mut self.constraints, self.patches.par_iter_mut().zip(self.shapes.par_iter_mut()));
         let each = jobs.par_iter().zip(parts.par_iter_mut()).zip(constraints.par_iter_mut());
-        each.zip(patches.par_iter_mut()).zip(kept.par_iter_mut()).with_min_len(PER_TASK).for_each(one);
+        each.zip(patches).zip(kept.par_iter_mut()).with_min_len(PER_TASK).for_each(one);
         self.previous.kept = kept;
     }
 
@@ -247,7 +250,9 @@ impl ContactSolver {
         let shared = Shared { bodies: &self.bodies, previous: &self.previous };
         let pts = &mut self.points[start as usize..];
         let (constraint, kept) = shared.constraint(&job, &src, pts);
-        self.patches.push(shared.patch(&constraint, kept, &src, pts));
+        let (patch, shape) = shared.patch(&constraint, kept, &src, pts);
+        self.patches.push(patch);
+        self.shapes.push(shape);
         self.constraints.push(constraint);
         if warm {
             self.previous.kept.push(kept.map_or(reuse::NONE, |o| o as u32));
@@ -368,9 +373,9 @@ impl Shared<'_> {
     /// The friction patch of constraint `c` (its geometry kept from last step's
     /// constraint `kept`), warm-started from what the manifold's points carry.
     #[inline(always)]
-    fn patch(&self, c: &Constraint, kept: Option<usize>, src: &Source, pts: &[Point]) -> Patch {
-        let mut patch = match kept {
-            Some(o) => Patch::with_geometry_of(&self.previous.patches[o]),
+    fn patch(&self, c: &Constraint, kept: Option<usize>, src: &Source, pts: &[Point]) -> (Patch, PatchShape) {
+        let (mut patch, shape) = match kept {
+            Some(o) => (Patch::with_geometry_of(&self.previous.patches[o]), self.previous.shapes[o]),
             None => Patch::new(c, pts, self.bodies),
         };
         if src.warm {
@@ -379,11 +384,11 @@ impl Shared<'_> {
             let points = src.manifold.points;
             let ft: Vec3 = points.iter().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
             patch.impulse = [ft.dot(&c.t1), ft.dot(&c.t2)];
-            if patch.shape.lever > 0.0 {
+            if patch.lever > 0.0 {
                 patch.twist = points.iter().map(|tp| tp.data.twist_impulse).sum();
             }
             patch.sliding = points.iter().any(|tp| tp.data.sliding);
         }
-        patch
+        (patch, shape)
     }
 }

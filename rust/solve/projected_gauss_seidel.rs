@@ -175,7 +175,7 @@ impl ContactSolver {
                             // sliding in: the slip of its first sweeps is noise.
                             let cand = [l[0] + d[0], l[1] + d[1]];
                             let (slip, spin) = if held(face) { ([0.0; 2], 0.0) } else { ([-res3[0], -res3[1]], -res3[2]) };
-                            let (f, t) = patch.settle(c, cand, l[2] + d[2], slip, spin, normal);
+                            let (f, t) = patch.settle(&self.shapes[face as usize], c, cand, l[2] + d[2], slip, spin, normal);
                             add(y, &mut dv, &mut dw, i, f[0] - l[0]);
                             add(y, &mut dv, &mut dw, i + 1, f[1] - l[1]);
                             if twist {

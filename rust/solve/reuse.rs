@@ -31,6 +31,7 @@ pub struct Previous {
     pub constraints: Vec<Constraint>,
     pub points: Vec<Point>,
     pub patches: Vec<Patch>,
+    pub shapes: Vec<super::limit_surface::PatchShape>,
     pub bodies: Vec<SolverBody>,
     /// Next constraint to look at (constraints come in the order of their pairs).
     cursor: usize,
@@ -136,6 +137,7 @@ impl ContactSolver {
         std::mem::swap(&mut p.constraints, &mut self.constraints);
         std::mem::swap(&mut p.points, &mut self.points);
         std::mem::swap(&mut p.patches, &mut self.patches);
+        std::mem::swap(&mut p.shapes, &mut self.shapes);
         std::mem::swap(&mut p.bodies, &mut self.bodies);
         p.swap_plan(&mut self.support);
         p.block_of.resize(self.slot.len(), NONE);

@@ -61,9 +61,10 @@ fn kept_geometry_is_the_geometry_of_its_anchors() {
             assert_eq!(fresh.normal_mass.to_bits(), p.normal_mass.to_bits());
             assert_eq!(fresh.irn1, p.irn1);
         }
-        let f = Patch::new(&c, points, &s.bodies);
+        let (f, shape) = Patch::new(&c, points, &s.bodies);
         let k = &s.patches[ci];
-        assert_eq!((f.friction_mass, f.tangent_mass, f.shape.lever), (k.friction_mass, k.tangent_mass, k.shape.lever));
+        assert_eq!((f.friction_mass, f.tangent_mass, f.lever), (k.friction_mass, k.tangent_mass, k.lever));
+        assert_eq!(shape, s.shapes[ci]);
     }
 }
 

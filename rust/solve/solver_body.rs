@@ -278,9 +278,10 @@ impl ContactSolver {
         let Some(runs) = super::lists::runs(&mut self.points, ranges) else {
             return false;
         };
-        let all = self.constraints.iter_mut().zip(self.patches.iter_mut()).zip(runs);
+        let patches = self.patches.iter_mut().zip(self.shapes.iter_mut());
+        let all = self.constraints.iter_mut().zip(patches).zip(runs);
         let mut jobs: Vec<_> = all.filter(|((c, _), _)| moved(c)).map(|((c, patch), points)| (c, patch, points)).collect();
-        jobs.par_iter_mut().for_each(|(c, patch, points)| refresh(c, patch, points, bodies));
+        jobs.par_iter_mut().for_each(|(c, (patch, shape), points)| refresh(c, (patch, shape), points, bodies));
         let touched: Vec<u32> = jobs.iter().filter(|(c, _, _)| c.lower != 0).map(|(c, _, _)| c.group).collect();
         touched.into_iter().for_each(|g| self.support.touch(g));
         true

@@ -19,7 +19,8 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// candidates from them in order).
 /// 6: the support sweeps' scratch and list of solved blocks are no longer
 /// kept (they are rebuilt by every pass).
-/// 7: the solver bodies' fields in the order a pass reads them.
+/// 7: the solver bodies' fields in the order a pass reads them; the
+/// patches' polygons apart from the patches.
 pub const FORMAT_VERSION: u32 = 7;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).

@@ -75,7 +75,7 @@ impl ContactSolver {
             self.points[pi].normal_mass = if k > 0.0 { 1.0 / k } else { 0.0 };
         }
         let friction = c.static_friction > 0.0;
-        let twist = friction && self.patches[ci].shape.lever > 0.0;
+        let twist = friction && self.patches[ci].lever > 0.0;
         if friction {
             // The patch's centre, as the shared patch takes it.
             let centre = [r1 / c.len as f64, r2 / c.len as f64];

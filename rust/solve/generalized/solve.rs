@@ -135,14 +135,14 @@ impl ContactSolver {
             let mut dt = 0.0;
             if lc.twist {
                 let mu = if f.sliding { c.friction } else { c.static_friction };
-                let limit = mu * jn.max(f.settled) * f.shape.lever;
+                let limit = mu * jn.max(f.settled) * f.lever;
                 let spin = g.rows[t + 2].velocity(&self.bodies, &g.qd, &g.jac);
                 // Not `clamp`: it panics on a NaN bound, and a step must not.
                 let twist = (f.twist - lc.twist_mass * spin).min(limit).max(-limit);
                 dt = twist - f.twist;
                 f.twist = twist;
             }
-            change = change.max(d[0].abs()).max(d[1].abs()).max(dt.abs() / f.shape.lever.max(f64::MIN_POSITIVE));
+            change = change.max(d[0].abs()).max(d[1].abs()).max(dt.abs() / f.lever.max(f64::MIN_POSITIVE));
             g.rows[t].apply(d[0], &mut self.bodies, &mut g.qd, &g.resp, false);
             g.rows[t + 1].apply(d[1], &mut self.bodies, &mut g.qd, &g.resp, false);
             if lc.twist {

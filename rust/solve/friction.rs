@@ -77,21 +77,25 @@ impl Patch {
         (f, shape)
     }
 
-    /// A patch with the geometry of `o` (arms, effective masses, lever) and no
-    /// impulses.
-    pub fn with_geometry_of(o: &Patch) -> Self {
-        Patch {
-            rt1: o.rt1,
-            rt2: o.rt2,
-            irt1: o.irt1,
-            irt2: o.irt2,
-            in1: o.in1,
-            in2: o.in2,
-            tangent_mass: o.tangent_mass,
-            friction_mass: o.friction_mass,
-            lever: o.lever,
-            ..Default::default()
-        }
+    /// The geometry of `o` (arms, effective masses, lever) and no impulses,
+    /// field by field in place.
+    pub fn take_geometry_of(&mut self, o: &Patch) {
+        // Every field is set below: a new one fails to compile here.
+        let Patch { rt1: _, rt2: _, irt1: _, irt2: _, in1: _, in2: _, tangent_mass: _, friction_mass: _, lever: _, impulse: _, twist: _, total: _, sliding: _, settled: _ } = o;
+        self.rt1 = o.rt1;
+        self.rt2 = o.rt2;
+        self.irt1 = o.irt1;
+        self.irt2 = o.irt2;
+        self.in1 = o.in1;
+        self.in2 = o.in2;
+        self.tangent_mass = o.tangent_mass;
+        self.friction_mass = o.friction_mass;
+        self.lever = o.lever;
+        self.impulse = [0.0; 2];
+        self.twist = 0.0;
+        self.total = [0.0; 2];
+        self.sliding = false;
+        self.settled = 0.0;
     }
 
     /// Brings the arms, effective masses, lever and polygon (`shape`) up to

@@ -159,7 +159,7 @@ impl ContactSolver {
             let mut slots = pts.iter_mut();
             src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
             let (constraint, kept) = shared.constraint(j, &src, pts);
-            (*f, *shape) = shared.patch(&constraint, kept, &src, pts);
+            shared.patch((f, shape), &constraint, kept, &src, pts);
             *c = constraint;
             *k = kept.map_or(reuse::NONE, |o| o as u32);
         };
@@ -250,9 +250,11 @@ impl ContactSolver {
         let shared = Shared { bodies: &self.bodies, previous: &self.previous };
         let pts = &mut self.points[start as usize..];
         let (constraint, kept) = shared.constraint(&job, &src, pts);
-        let (patch, shape) = shared.patch(&constraint, kept, &src, pts);
-        self.patches.push(patch);
-        self.shapes.push(shape);
+        self.patches.push(Patch::default());
+        self.shapes.push(PatchShape::default());
+        if let (Some(patch), Some(shape)) = (self.patches.last_mut(), self.shapes.last_mut()) {
+            shared.patch((patch, shape), &constraint, kept, &src, pts);
+        }
         self.constraints.push(constraint);
         if warm {
             self.previous.kept.push(kept.map_or(reuse::NONE, |o| o as u32));
@@ -371,13 +373,21 @@ impl Shared<'_> {
     }
 
     /// The friction patch of constraint `c` (its geometry kept from last step's
-    /// constraint `kept`), warm-started from what the manifold's points carry.
+    /// constraint `kept`), warm-started from what the manifold's points carry,
+    /// written in place: built and moved, the patch and its polygon were 3 %
+    /// of a 1000-ball pit's step in `memmove`.
     #[inline(always)]
-    fn patch(&self, c: &Constraint, kept: Option<usize>, src: &Source, pts: &[Point]) -> (Patch, PatchShape) {
-        let (mut patch, shape) = match kept {
-            Some(o) => (Patch::with_geometry_of(&self.previous.patches[o]), self.previous.shapes[o]),
-            None => Patch::new(c, pts, self.bodies),
-        };
+    fn patch(&self, (patch, shape): (&mut Patch, &mut PatchShape), c: &Constraint, kept: Option<usize>, src: &Source, pts: &[Point]) {
+        match kept {
+            Some(o) => {
+                patch.take_geometry_of(&self.previous.patches[o]);
+                *shape = self.previous.shapes[o];
+            }
+            None => {
+                *patch = Patch::default();
+                patch.set_geometry(shape, c, pts, self.bodies);
+            }
+        }
         if src.warm {
             // Each point carries its share of the patch's impulses: summed, they
             // survive points that appear or vanish between steps.
@@ -389,6 +399,5 @@ impl Shared<'_> {
             }
             patch.sliding = points.iter().any(|tp| tp.data.sliding);
         }
-        (patch, shape)
     }
 }

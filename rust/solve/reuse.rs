@@ -99,7 +99,7 @@ pub(crate) fn holds(p: &Previous, bodies: &[SolverBody], oi: usize, ctx: &PairCo
 }
 
 /// Takes the geometry of the last step's constraint `oi` for `points`; returns
-/// its normal and tangents (its patch: [`Patch::with_geometry_of`]).
+/// its normal and tangents (its patch: [`Patch::take_geometry_of`]).
 #[inline]
 pub(crate) fn keep(p: &Previous, oi: usize, points: &mut [Point]) -> (Vec3, Vec3, Vec3) {
     let o = &p.constraints[oi];

@@ -484,7 +484,7 @@ impl ContactSolver {
     pub(crate) fn push_block(&mut self, g: usize, rate: f64, cap: f64, rest: f64, sc: &mut Scratch) {
         let b = self.support.blocks[g];
         // No point of it can be deeper than the edge yet (see `super::quiet`).
-        if b.low - self.block_motion(g).1 >= -rest {
+        if b.low - self.block_moved(g) >= -rest {
             return;
         }
         let (r0, r1) = (b.rows.0 as usize, b.rows.1 as usize);

@@ -123,6 +123,10 @@ pub struct Support {
     /// Some pass of this step had islands enough to sweep in parallel.
     #[serde(skip)]
     pub(crate) split: bool,
+    /// Per solver body, while the blocks are looked at: `|v|`, `|ω|`, `|Δp|`,
+    /// `|Δq⃗|` (see `super::quiet`).
+    #[serde(skip)]
+    pub(crate) motions: Vec<[f64; 4]>,
     pub active: Vec<bool>,
     /// Per world body: the last velocity pass that solved its island, and
     /// the number of the last velocity pass (relax passes do not count).

@@ -14,8 +14,9 @@
 //! none added from 240 Hz on at the default 4) while a slow body rocks, every
 //! moving body slow too (the scene is settling), and for [`HOLD`] after. The
 //! whole world takes them (substeps per island are not done). A scene in
-//! motion keeps its substeps: with rocking alone as the sign, a tumbling 4000-cube pile, where some slow
-//! cube always rocks, took 16 substeps throughout (3.3× the time).
+//! motion keeps its substeps: with rocking alone as the sign, a tumbling
+//! 4000-cube pile, where some slow cube always rocks, took 16 substeps
+//! throughout (3.3× the time).
 
 use super::block::{RowKind, Scratch};
 use super::contact::ContactSolver;

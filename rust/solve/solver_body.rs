@@ -30,6 +30,8 @@ pub struct SolverBody {
     pub round: bool,
     /// Moved by the position pass since its pose was gathered.
     pub pushed: bool,
+    /// Moved by more than round-off since the last refresh of its
+    /// constraints' arms (see `gather`).
     pub moved: bool,
     /// Index in the world's bodies.
     pub body: u32,
@@ -38,8 +40,7 @@ pub struct SolverBody {
     /// and products with it are scalings (see [`SolverBody::inv_i_mul`]).
     pub iso: Option<f64>,
     pub inv_i: Mat3,
-    /// Pose change at the last refresh of its constraints' arms, and whether it
-    /// has moved since by more than round-off (see `gather`).
+    /// Pose change at the last refresh of its constraints' arms.
     pub dp_ref: Vec3,
     pub dq_ref: Quat,
 }

@@ -10,7 +10,8 @@
 //! its twelve sweeps without converging on most of them (1.9 M sweeps in 160
 //! steps of a 400-box pile), and stops short of the answer this finds.
 
-use super::block::{factor, solve_factored, RowKind, Scratch, Target};
+use super::block::{RowKind, Scratch, Target};
+use super::ldlt::{factor, solve_factored};
 use super::contact::ContactSolver;
 use super::small_lcp::SLOW;
 

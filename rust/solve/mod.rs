@@ -4,6 +4,7 @@
 
 pub mod active_set;
 pub mod block;
+pub mod block_assembly;
 pub mod contact;
 pub mod contact_groups;
 pub mod friction;
@@ -12,6 +13,7 @@ pub mod impacts;
 pub mod impulse;
 pub mod island_sweeps;
 pub mod islands;
+pub mod ldlt;
 pub mod limit_surface;
 pub mod lists;
 pub mod overshoot;

@@ -196,18 +196,20 @@ impl ContactSolver {
         let rest = REST_DEPTH * self.settings.slop;
         let s = &mut self.support;
         for b in &mut s.blocks {
-            let (mut low, mut high, mut arm) = (f64::INFINITY, f64::NEG_INFINITY, 1.0f64);
+            // The longest arm squared: one square root a block, not four a row
+            // (the same bits: a square root is monotone and correctly rounded).
+            let (mut low, mut high, mut arm2) = (f64::INFINITY, f64::NEG_INFINITY, 1.0f64);
             for r in &s.rows[b.rows.0 as usize..b.rows.1 as usize] {
-                arm = arm.max(r.ju[1].norm()).max(r.jl[1].norm());
+                arm2 = arm2.max(r.ju[1].norm_squared()).max(r.jl[1].norm_squared());
                 if let RowKind::Normal(pi) = r.kind {
                     let p = &self.points[pi as usize];
                     let sep = p.separation + rest;
                     (low, high) = (low.min(sep), high.max(sep));
-                    arm = arm.max(p.anchor1.norm()).max(p.anchor2.norm());
+                    arm2 = arm2.max(p.anchor1.norm_squared()).max(p.anchor2.norm_squared());
                 }
             }
             // The arms follow the bodies within the kept geometry's tolerance.
-            (b.low, b.high, b.arm) = (low, high, arm * (1.0 + ARM_SLACK) + super::solver_body::MOVE_EPS);
+            (b.low, b.high, b.arm) = (low, high, arm2.sqrt() * (1.0 + ARM_SLACK) + super::solver_body::MOVE_EPS);
         }
     }
 

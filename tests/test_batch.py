@@ -4,6 +4,8 @@ through the (B, N, ·) views; bad input is refused naming the copy and the body,
 copy that diverges puts the whole batch back at the step before it."""
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 import pytest
 
@@ -216,6 +218,8 @@ import signal
 # Ctrl-C raises KeyboardInterrupt as in a terminal, whatever the parent left
 # (Python keeps SIGINT ignored if it starts ignored, as under `nohup ... &`).
 signal.signal(signal.SIGINT, signal.default_int_handler)
+import threading
+
 import numpy as np
 sys.path.insert(0, {tests!r})
 from test_batch import pile, DT
@@ -251,3 +255,57 @@ def test_ctrl_c_stops_every_copy_at_one_step_boundary() -> None:
     words = out.split()
     # Every copy at the same step, and bitwise the world stepped alone that far.
     assert words[0] == "interrupted" and int(words[1]) > 0 and words[2] == "True", out
+
+
+def test_a_write_through_the_views_during_a_batch_step_is_kept_as_if_made_after_it() -> None:
+    # `Batch.step` releases the GIL. A velocity written from another thread while
+    # it runs survives the call (the copy back of the steps' results used to
+    # overwrite it) and is what the next call starts from; every other row is
+    # the steps' result.
+    batch = rr.Batch(free_fall(), copies=4, dt=DT)
+    velocity = batch.bodies.linear_velocity
+    started, done = threading.Event(), threading.Event()
+
+    def writer() -> None:
+        started.wait()
+        velocity[2, 1] = (0.0, 0.0, 42.0)
+        done.set()
+
+    thread = threading.Thread(target=writer)
+    thread.start()
+    calls = 0
+    while not done.is_set():
+        started.set()
+        batch.step(200)
+        calls += 1
+    thread.join()
+    assert tuple(velocity[2, 1]) == (0.0, 0.0, 42.0)
+    # The rows nobody wrote hold the steps' result: free fall from rest, exact
+    # for a constant force (v = -g t) to round-off.
+    t = batch.time
+    assert calls >= 1 and t == pytest.approx(200 * calls * DT)
+    assert velocity[0, 0, 2] == pytest.approx(-G * t, rel=1e-9)
+    batch.step(1)
+    assert velocity[2, 1, 2] == pytest.approx(42.0 - G * DT, rel=1e-9)
+
+
+def test_a_nan_written_during_a_batch_step_is_refused_by_the_next_naming_the_copy() -> None:
+    batch = rr.Batch(free_fall(), copies=3, dt=DT)
+    position = batch.bodies.position
+    started, done = threading.Event(), threading.Event()
+
+    def writer() -> None:
+        started.wait()
+        position[1, 2] = np.nan
+        done.set()
+
+    thread = threading.Thread(target=writer)
+    thread.start()
+    while not done.is_set():
+        started.set()
+        batch.step(200)
+    thread.join()
+    steps = batch.steps
+    with pytest.raises(rr.StateError, match="copy 1: body 2"):
+        batch.step(5)
+    assert batch.steps == steps

@@ -995,7 +995,9 @@ class Batch:
         body; nothing moves. A copy that diverges raises ``SimulationError`` naming the copy,
         the body, the stage and the time; every copy is put back as it was before that copy's
         failing step (the message would list a copy that could not be). Ctrl-C stops every copy at
-        the same step boundary (``KeyboardInterrupt``)."""
+        the same step boundary (``KeyboardInterrupt``). A state written through the views by
+        another thread while the steps run is kept, as if written after the call, and checked by
+        the next call."""
     def set(self, name: str, values: ArrayLike) -> None:
         """Per-copy parameter ``name``, ``values`` of shape (B,) (every body of a copy) or
         (B, N) (per body): "friction" (dynamic and static, –), "static_friction",

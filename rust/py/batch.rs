@@ -2,6 +2,14 @@
 //! seen through (B, N, ·) views. The views show one buffer per array owned by
 //! the batch (allocated once, never reallocated, the view's base is the batch):
 //! each `step` copies it into the worlds first and back after, O(B·N).
+//!
+//! The steps never read the buffers, so a thread writing through a view while
+//! they run (the GIL released) cannot reach them. Its write is kept, as if
+//! made after the call: a row that differs from what the buffers held when the
+//! steps started is not overwritten by their result, and the next `step`'s
+//! check of its inputs validates it (a NaN raises `StateError` naming the copy
+//! and the body), as `World.step` does (`super::shadow`). Before, the copy
+//! back overwrote it, and the write was lost.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -28,6 +36,8 @@ const SIGNAL_CHECK: Duration = Duration::from_millis(20);
 pub struct PyBatch {
     core: Batch,
     bufs: Buffers,
+    /// The buffers when the running steps started (see the module docs).
+    before: Buffers,
 }
 
 /// What the views show: B·N rows per array, copy after copy.
@@ -73,12 +83,52 @@ impl Buffers {
         rows_mut(&mut self.linear_velocity, c, n).copy_from_slice(&b.linear_velocity);
         rows_mut(&mut self.angular_velocity, c, n).copy_from_slice(&b.angular_velocity);
     }
+
+    /// [`Self::read_from`], but a row that differs from `before`'s (written
+    /// through a view since) keeps what was written.
+    fn read_unwritten_from(&mut self, c: usize, n: usize, w: &World, before: &Buffers) {
+        let b = &w.bodies;
+        keep_writes(rows_mut(&mut self.position, c, n), &b.position, rows(&before.position, c, n));
+        keep_writes(rows_mut(&mut self.orientation, c, n), &b.orientation, rows(&before.orientation, c, n));
+        keep_writes(rows_mut(&mut self.linear_velocity, c, n), &b.linear_velocity, rows(&before.linear_velocity, c, n));
+        keep_writes(rows_mut(&mut self.angular_velocity, c, n), &b.angular_velocity, rows(&before.angular_velocity, c, n));
+    }
+
+    /// `self = other`, same sizes (no allocation).
+    fn set_to(&mut self, other: &Buffers) {
+        self.position.copy_from_slice(&other.position);
+        self.orientation.copy_from_slice(&other.orientation);
+        self.linear_velocity.copy_from_slice(&other.linear_velocity);
+        self.angular_velocity.copy_from_slice(&other.angular_velocity);
+    }
+
+    /// Whether every row holds the bits it holds in `other`.
+    fn same_as(&self, other: &Buffers) -> bool {
+        same_rows(&self.position, &other.position)
+            && same_rows(&self.orientation, &other.orientation)
+            && same_rows(&self.linear_velocity, &other.linear_velocity)
+            && same_rows(&self.angular_velocity, &other.angular_velocity)
+    }
+}
+
+/// Whether rows `a` and `b` hold the same bits (NaN equals NaN, −0 ≠ 0).
+fn same_rows<const K: usize>(a: &[[f64; K]], b: &[[f64; K]]) -> bool {
+    a.len() == b.len() && a.iter().flatten().zip(b.iter().flatten()).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// `view = result` where `view` still holds `before`'s bits.
+fn keep_writes<const K: usize>(view: &mut [[f64; K]], result: &[[f64; K]], before: &[[f64; K]]) {
+    for ((v, r), b) in view.iter_mut().zip(result).zip(before) {
+        if same_rows(std::slice::from_ref(v), std::slice::from_ref(b)) {
+            *v = *r;
+        }
+    }
 }
 
 impl PyBatch {
     fn from_core(core: Batch) -> Self {
-        let bufs = Buffers::new(core.len() * core.bodies());
-        let mut b = Self { core, bufs };
+        let total = core.len() * core.bodies();
+        let mut b = Self { core, bufs: Buffers::new(total), before: Buffers::new(total) };
         b.copy_out();
         b
     }
@@ -96,6 +146,18 @@ impl PyBatch {
         let n = self.core.bodies();
         for (c, w) in self.core.worlds.iter().enumerate() {
             self.bufs.read_from(c, n, w);
+        }
+    }
+
+    /// Worlds → buffers after steps that ran with the GIL released, keeping
+    /// the rows written through the views meanwhile (see the module docs).
+    fn copy_out_keeping_writes(&mut self) {
+        if self.bufs.same_as(&self.before) {
+            return self.copy_out();
+        }
+        let n = self.core.bodies();
+        for (c, w) in self.core.worlds.iter().enumerate() {
+            self.bufs.read_unwritten_from(c, n, w, &self.before);
         }
     }
 
@@ -194,12 +256,15 @@ impl PyBatch {
     /// `StateError` naming the copy and the body, and nothing moves. A copy that
     /// diverges raises `SimulationError` naming the copy, the body and the stage;
     /// every copy is put back as it was before that copy's failing step. Ctrl-C
-    /// stops every copy at the same step boundary (`KeyboardInterrupt`).
+    /// stops every copy at the same step boundary (`KeyboardInterrupt`). A
+    /// state written through the views by another thread while the steps run
+    /// is kept, as if written after the call, and checked by the next one.
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
         let n = non_negative_int(n, "n")?;
         self.copy_in();
         self.core.check_inputs().py_err()?;
+        self.before.set_to(&self.bufs);
         let mut signal: Option<PyErr> = None;
         let mut checked = Instant::now();
         let mut interrupted = || {
@@ -211,7 +276,7 @@ impl PyBatch {
             signal.is_some()
         };
         let r = py.detach(|| catch_unwind(AssertUnwindSafe(|| self.run(n, &mut interrupted))));
-        self.copy_out();
+        self.copy_out_keeping_writes();
         match r {
             Ok(result) => result.py_err()?,
             Err(_) => {

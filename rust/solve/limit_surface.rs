@@ -21,7 +21,7 @@
 /// `sqrt(x² + y²)` (libm's `hypot` guards against overflow at several times the
 /// cost; contact quantities are far from it).
 #[inline(always)]
-fn norm2(x: f64, y: f64) -> f64 {
+pub(crate) fn norm2(x: f64, y: f64) -> f64 {
     (x * x + y * y).sqrt()
 }
 

@@ -257,18 +257,14 @@ def test_ctrl_c_stops_every_copy_at_one_step_boundary() -> None:
     assert words[0] == "interrupted" and int(words[1]) > 0 and words[2] == "True", out
 
 
-def test_a_write_through_the_views_during_a_batch_step_is_kept_as_if_made_after_it() -> None:
-    # `Batch.step` releases the GIL. A velocity written from another thread while
-    # it runs survives the call (the copy back of the steps' results used to
-    # overwrite it) and is what the next call starts from; every other row is
-    # the steps' result.
-    batch = rr.Batch(free_fall(), copies=4, dt=DT)
-    velocity = batch.bodies.linear_velocity
+def write_while_stepping(batch: rr.Batch, write) -> int:
+    """Steps ``batch`` 200 steps a call until ``write()``, run on another thread
+    (most likely while a call has the GIL released), has been made; the calls made."""
     started, done = threading.Event(), threading.Event()
 
     def writer() -> None:
         started.wait()
-        velocity[2, 1] = (0.0, 0.0, 42.0)
+        write()
         done.set()
 
     thread = threading.Thread(target=writer)
@@ -279,6 +275,17 @@ def test_a_write_through_the_views_during_a_batch_step_is_kept_as_if_made_after_
         batch.step(200)
         calls += 1
     thread.join()
+    return calls
+
+
+def test_a_write_through_the_views_during_a_batch_step_is_kept_as_if_made_after_it() -> None:
+    # `Batch.step` releases the GIL. A velocity written from another thread while
+    # it runs survives the call (the copy back of the steps' results used to
+    # overwrite it) and is what the next call starts from; every other row is
+    # the steps' result.
+    batch = rr.Batch(free_fall(), copies=4, dt=DT)
+    velocity = batch.bodies.linear_velocity
+    calls = write_while_stepping(batch, lambda: velocity.__setitem__((2, 1), (0.0, 0.0, 42.0)))
     assert tuple(velocity[2, 1]) == (0.0, 0.0, 42.0)
     # The rows nobody wrote hold the steps' result: free fall from rest, exact
     # for a constant force (v = -g t) to round-off.
@@ -292,19 +299,7 @@ def test_a_write_through_the_views_during_a_batch_step_is_kept_as_if_made_after_
 def test_a_nan_written_during_a_batch_step_is_refused_by_the_next_naming_the_copy() -> None:
     batch = rr.Batch(free_fall(), copies=3, dt=DT)
     position = batch.bodies.position
-    started, done = threading.Event(), threading.Event()
-
-    def writer() -> None:
-        started.wait()
-        position[1, 2] = np.nan
-        done.set()
-
-    thread = threading.Thread(target=writer)
-    thread.start()
-    while not done.is_set():
-        started.set()
-        batch.step(200)
-    thread.join()
+    write_while_stepping(batch, lambda: position.__setitem__((1, 2), np.nan))
     steps = batch.steps
     with pytest.raises(rr.StateError, match="copy 1: body 2"):
         batch.step(5)

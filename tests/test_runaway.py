@@ -5,10 +5,12 @@ time, with the world exactly as before that step; legitimate sources of energy
 overlaps pushed apart, bodies written off their joints) never trip it.
 
 The budget (``rust/world/runaway.rs``, README "Divergence caught and undone"):
-kinetic energy after the first step since the last reset, plus the gravity
-potential lost, plus the work of applied forces, drives, kinematic bodies and
-contact push-out, plus ``½ M v_push²`` once; a step over 100 times that is a
-runaway. Checked every 8 steps; a failed check finds the first step over budget.
+kinetic energy at the last reset (after the first step since, in a world with
+XPBD joints, particles or articulations, whose constraints snap back), plus the
+gravity potential lost, plus the work of applied forces, drives, kinematic
+bodies and contact push-out, plus ``½ M v_push²`` once; a step over 100 times
+that is a runaway. Checked every 8 steps and after the first step since a reset
+or a write; a failed check finds the first step over budget.
 """
 from __future__ import annotations
 
@@ -65,12 +67,11 @@ def test_a_spin_up_by_an_unstable_integrator_is_caught_and_undone() -> None:
     for name in ("position", "orientation", "linear_velocity", "angular_velocity"):
         assert np.array_equal(getattr(world.bodies, name), getattr(twin.bodies, name)), name
 
-    # The bound it broke is the formula: K after the first step + ½ M v_push²
-    # (no gravity, forces, drives, contacts), ×100; the energy it ended with is
-    # over it, and the state it was put back to is under it. (Printed to 5
-    # digits: 1e-4 relative.)
+    # The bound it broke is the formula: K as built + ½ M v_push² (no gravity,
+    # forces, drives, contacts), ×100; the energy it ended with is over it, and
+    # the state it was put back to is under it. (Printed to 5 digits: 1e-4
+    # relative.)
     first = spinner().build(dt=0.05, integrator="symplectic_euler")
-    first.step(1)
     budget = kinetic(first) + 0.5 * float(first.bodies.mass[0]) * V_PUSH**2
     ended, explained = (float(x) for x in re.findall(r"ended with (\S+) J.*the (\S+) J that", message)[0])
     assert explained == pytest.approx(budget, rel=1e-4)
@@ -92,8 +93,72 @@ def test_a_runaway_over_several_calls_is_caught_at_a_call_start() -> None:
             break
     else:
         pytest.fail("the runaway was not caught")
-    # The world is still usable: a restart of the budget lets it step on.
+    # Stepped again as it is, it is refused again (the new budget judges the
+    # first step from the state it starts at) and stays as it was; with a sane
+    # spin written, it steps on.
+    before = world.bodies.angular_velocity.copy()
+    with pytest.raises(rr.SimulationError, match="ran away"):
+        world.step(1)
+    assert np.array_equal(world.bodies.angular_velocity, before)
+    world.bodies.angular_velocity[0] = (5.0, 10.0, 5.0)
     world.step(1)
+
+
+def spun_up(scale: float) -> tuple[rr.World, float]:
+    """The spinner after one step with its spin written ``scale`` times the
+    initial one, and its kinetic energy as written. One step of
+    symplectic_euler at dt 0.05 multiplies it by ×3.8 at 10, ×12 at 20 (within
+    the bound) and by more than 100 at 100 (measured)."""
+    world = spinner().build(dt=0.05, integrator="symplectic_euler")
+    world.step(1)
+    kinetic(world)  # brings the world-frame inertia up to date
+    inertia = world.bodies.inertia_world[0].copy()
+    w = np.array([5.0, 10.0, 5.0]) * scale
+    # Read without another call (`kinetic` makes one): the write only changes ω.
+    world.bodies.angular_velocity[0] = w
+    return world, 0.5 * float(w @ inertia @ w)
+
+
+def test_a_runaway_in_the_first_step_after_a_write_is_caught() -> None:
+    # Regression: the budget took the state after the step following a write
+    # as its reference, so a write of absurd but finite velocities that the
+    # first step multiplied was never judged (a cube spun at 1e6 rad/s in a
+    # column went ×4300 in that step; tests/test_fast_spin_in_contact.py).
+    world, written = spun_up(100.0)
+    mass = float(world.bodies.mass[0])
+    before = world.bodies.angular_velocity.copy()
+    with pytest.raises(rr.SimulationError) as info:
+        world.step(1)
+    message = str(info.value)
+    assert "ran away in stage 'gyroscopic'" in message, message
+    # Put back as written, the step count unchanged.
+    assert world.steps == 1
+    assert np.array_equal(world.bodies.angular_velocity, before)
+    # The bound: what the budget held (K after the first step, + ½ M v_push²)
+    # plus K as written, + ½ M v_push² again; the step ended over 100 times it.
+    first = spinner().build(dt=0.05, integrator="symplectic_euler")
+    held = kinetic(first) + 0.5 * mass * V_PUSH**2
+    ended, explained = (float(x) for x in re.findall(r"ended with (\S+) J.*the (\S+) J that", message)[0])
+    assert explained == pytest.approx(held + written + 0.5 * mass * V_PUSH**2, rel=1e-4)
+    assert ended > FACTOR * explained
+
+
+@pytest.mark.parametrize("scale", [10.0, 20.0])
+def test_a_fast_write_the_first_step_keeps_within_bounds_is_not_a_runaway(scale: float) -> None:
+    world, written = spun_up(scale)
+    world.step(1)
+    assert written < kinetic(world) < FACTOR * written
+
+
+def test_a_runaway_in_the_first_step_of_a_world_is_caught() -> None:
+    # The first step of a world is judged from the state as built.
+    scene = rr.Scene(gravity=(0.0, 0.0, 0.0))
+    scene.add_body(rr.Box((0.1, 0.2, 0.4)), density=1000.0, angular_velocity=(500.0, 1000.0, 500.0))
+    world = scene.build(dt=0.05, integrator="symplectic_euler")
+    with pytest.raises(rr.SimulationError, match="ran away in stage 'gyroscopic'"):
+        world.step(1)
+    assert world.steps == 0
+    assert np.array_equal(world.bodies.angular_velocity[0], (500.0, 1000.0, 500.0))
 
 
 def test_a_drive_spinning_a_wheel_up_is_not_a_runaway() -> None:

@@ -7,8 +7,7 @@
 //! (rotation substeps, CCD sweeps of huge motions).
 //!
 //! The budget. Since the last reset (the first step of a world, a restore, a
-//! pose, a step that failed; the reference is the state after the first step
-//! since, so that initial overlaps pushed apart are not judged) the kinetic
+//! pose, a step that failed) the kinetic
 //! energy of the dynamic bodies and particles can only come from: the kinetic
 //! energy they had then, `K₀`; the
 //! gravity potential they have lost since, `max(0, U₀ − U)`; and the work of
@@ -26,10 +25,20 @@
 //!   `max_force` or, when that is infinite, `k |q* − q| + c |q̇* − q̇|` (a
 //!   spherical joint's angle error taken as π);
 //! - what the user writes to positions, orientations or velocities between two
-//!   `step` calls: the budget then carries what it allowed so far and takes
-//!   the state after the next step as its new reference (forces and drive
-//!   targets written are counted as above);
-//! - and, once, `½ M v_push²`: what pushing initial overlaps apart may give.
+//!   `step` calls: the budget then carries what it allowed so far and adds
+//!   the state as written (forces and drive targets written are counted as
+//!   above);
+//! - and, once after each reset or write, `½ M v_push²`: what pushing
+//!   overlaps apart may give.
+//!
+//! The step after a reset or a write is checked at once, against the state
+//! before it: a write of absurd but finite velocities whose first step
+//! multiplied them (a spinning cube wedged in a column, ×4300 in one step)
+//! was taken as the reference before. Not in a world with XPBD joints,
+//! particles or articulations: a body written off its joint, a cloth placed
+//! stretched or a link past its limit snaps back within that step at speeds
+//! no bound of the state before explains, so there the reference is the
+//! state after that step.
 //!
 //! A step is a runaway when the kinetic energy after it exceeds
 //! [`RUNAWAY_FACTOR`] times `K₀ + A + max(0, U₀ − U)`. The factor (100 in
@@ -41,7 +50,8 @@
 //! grows linearly with time.
 //!
 //! When. The check runs every [`CHECK_EVERY`] steps (and before every
-//! checkpoint of `guard`); one that fails replays the steps since the last
+//! checkpoint of `guard`, and after the first step since a reset or a write
+//! where that step is judged); one that fails replays the steps since the last
 //! check that passed, checking each, and the world goes back before the first
 //! step over budget, never before the current `step` call (earlier calls have
 //! returned): a world already over budget at the start of the call stays as it
@@ -76,10 +86,14 @@ pub struct Energy {
 #[derive(Clone, Debug, Default)]
 pub struct Budget {
     live: bool,
-    /// Reset or written before the first step since: the reference is taken
-    /// after it (what initial overlaps, a fresh pose or a body written off its
-    /// joint give in one step is theirs).
+    /// Reset or written before the first step since, in a world whose
+    /// constraints snap back (see the module): the reference is taken after
+    /// that step (what a body written off its joint gives in one step is
+    /// its own).
     warm: bool,
+    /// Reset or written in a world without such constraints: the next step is
+    /// checked as soon as it is taken.
+    due: bool,
     kinetic_ref: f64,
     potential_ref: f64,
     /// Work of the sources up to the last check (J), and since (J).
@@ -103,9 +117,11 @@ impl Budget {
     pub fn reset(&mut self, w: &World) {
         let e = w.energy();
         let v = w.settings.solver.max_push_velocity;
+        let snaps = w.snaps_back();
         *self = Self {
             live: true,
-            warm: true,
+            warm: snaps,
+            due: !snaps,
             kinetic_ref: e.kinetic,
             potential_ref: e.potential,
             allowance: 0.5 * e.mass * v * v,
@@ -117,10 +133,10 @@ impl Budget {
     }
 
     /// At the start of a `step` call after the user wrote positions,
-    /// orientations or velocities: the world as it is after the next step is
-    /// explained by the energy the budget allowed until now plus what it holds
-    /// then (the writes count as work, and so do the unchecked steps before
-    /// them; a body written off its joint snaps back within that step).
+    /// orientations or velocities: the world as it is now (or after the next
+    /// step, where constraints snap back) is explained by the energy the
+    /// budget allowed until now plus what it holds then (the writes count as
+    /// work, and so do the unchecked steps before them).
     pub fn written(&mut self, w: &World) {
         if !self.live {
             return self.reset(w);
@@ -128,7 +144,17 @@ impl Budget {
         let e = w.energy();
         let before = self.kinetic_ref + self.allowance + self.work + (self.potential_ref - e.potential).max(0.0);
         let v = w.settings.solver.max_push_velocity;
-        *self = Self { warm: true, allowance: before + 0.5 * e.mass * v * v, work: 0.0, pending: 0, ..self.clone() };
+        let snaps = w.snaps_back();
+        *self = Self {
+            warm: snaps,
+            due: !snaps,
+            kinetic_ref: e.kinetic,
+            potential_ref: e.potential,
+            allowance: before + 0.5 * e.mass * v * v,
+            work: 0.0,
+            pending: 0,
+            ..self.clone()
+        };
     }
 
     /// After a step that left the world finite: adds the most work the
@@ -144,7 +170,7 @@ impl Budget {
         }
         self.work += w.step_work(src, self.mass, self.particle_mass);
         self.pending += 1;
-        self.pending >= CHECK_EVERY
+        std::mem::take(&mut self.due) || self.pending >= CHECK_EVERY
     }
 
     /// Steps since the last check.
@@ -211,6 +237,13 @@ fn norm(v: &[f64; 3]) -> f64 {
 }
 
 impl World {
+    /// Whether some constraint of the world may snap back within one step
+    /// from a state as written or placed (XPBD joints, particles,
+    /// articulations): see the module.
+    fn snaps_back(&self) -> bool {
+        !self.joints.is_empty() || self.particles().is_some() || !self.articulations.is_empty()
+    }
+
     /// Kinetic energy, gravity potential and mass of the dynamic bodies and
     /// the free particles: one pass.
     pub fn energy(&self) -> Energy {

@@ -5,12 +5,14 @@ pub mod broad_phase;
 pub mod ccd;
 pub mod collider;
 pub mod corners;
+mod face_clip;
 pub mod face_points;
 pub mod material;
 pub mod narrow_phase;
 mod passing;
 pub mod sweep_and_prune;
 pub mod plane_hull;
+mod touching_polyhedra;
 
 pub use collider::{Collider, Filter};
 pub use material::Material;

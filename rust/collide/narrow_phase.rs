@@ -342,6 +342,10 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
             &mut state.manifolds,
             &mut state.workspace,
         );
+        let (s1, s2) = (c1.shape.as_ref(), c2.shape.as_ref());
+        if super::touching_polyhedra::may_apply(s1, s2) {
+            super::touching_polyhedra::repair(&mut state.manifolds, s1, s2, &pos12);
+        }
         if many_cornered {
             super::face_points::complete(&mut state.manifolds, c1, c2, &pos12, prediction, &kept);
         }

@@ -1,0 +1,97 @@
+//! The contact points of a face resting on a face: the incident face (shape
+//! 2's) clipped by the side planes of the reference face (shape 1's), as Box2D
+//! and Bullet clip, with points on a side plane kept. parry's clipping of two
+//! faces that coincide exactly (equal hulls stacked, a box on a hull of the
+//! same size) kept two or three of the four corners as round-off fell, and a
+//! face held at two corners rocks.
+
+use nalgebra::{Isometry3, Point3, Unit, Vector3};
+use parry3d_f64::shape::{PackedFeatureId, PolygonalFeature};
+
+use super::narrow_phase::{Manifold, Tracked};
+
+/// Share of the faces' size within which a point on a side plane is inside,
+/// and two points are one.
+const EDGE: f64 = 1e-9;
+
+/// A vertex of the clipped polygon (frame 1) and the features it comes from.
+#[derive(Clone, Copy)]
+struct Corner {
+    p: Point3<f64>,
+    fid1: PackedFeatureId,
+    fid2: PackedFeatureId,
+    /// The incident edge from this corner to the next, if it is one.
+    edge2: PackedFeatureId,
+}
+
+/// Replaces the points of `m` by those of face `f1` (frame 1) against face
+/// `f2` (frame 2; `pos12` takes it to frame 1) along normal `n1`. False (and
+/// `m` untouched) unless both are faces.
+pub fn faces(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
+    if f1.num_vertices < 3 || f2.num_vertices < 3 {
+        return false;
+    }
+    let reference = &f1.vertices[..f1.num_vertices];
+    let size = reference.iter().map(|v| (v - reference[0]).norm()).fold(0.0, f64::max);
+    let tol = EDGE * size.max(f64::MIN_POSITIVE);
+    let mut poly: Vec<Corner> = (0..f2.num_vertices)
+        .map(|k| Corner { p: pos12 * f2.vertices[k], fid1: f1.fid, fid2: f2.vids[k], edge2: f2.eids[k] })
+        .collect();
+    let centre = reference.iter().fold(Vector3::zeros(), |s, v| s + v.coords) / reference.len() as f64;
+    for k in 0..reference.len() {
+        let (a, b) = (reference[k], reference[(k + 1) % reference.len()]);
+        let mut side = (b - a).cross(n1);
+        if side.dot(&(centre - a.coords)) > 0.0 {
+            side = -side;
+        }
+        let Some(side) = Unit::try_new(side, 0.0) else { continue };
+        poly = clip(&poly, &a, &side, tol, f1.eids[k]);
+        if poly.is_empty() {
+            return false;
+        }
+    }
+    let old = m.points.clone();
+    m.clear();
+    for c in dedup(&poly, tol) {
+        let dist = n1.dot(&(c.p - reference[0]));
+        let local_p1 = c.p - n1.into_inner() * dist;
+        let local_p2 = pos12.inverse_transform_point(&c.p);
+        m.points.push(Tracked::new(local_p1, local_p2, c.fid1, c.fid2, dist));
+    }
+    m.match_contacts(&old);
+    true
+}
+
+/// `poly` cut by the plane through `a` with outward normal `side`, keeping
+/// what lies within `tol` of its inside; a new corner lies on the reference
+/// edge `edge1` and on the incident edge it cuts.
+fn clip(poly: &[Corner], a: &Point3<f64>, side: &Unit<Vector3<f64>>, tol: f64, edge1: PackedFeatureId) -> Vec<Corner> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    let d = |c: &Corner| side.dot(&(c.p - a));
+    for k in 0..poly.len() {
+        let (c, next) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (dc, dn) = (d(&c), d(&next));
+        if dc <= tol {
+            out.push(c);
+        }
+        if (dc > tol) != (dn > tol) {
+            let t = dc / (dc - dn);
+            // Leaving, the polygon goes on along the cut; entering, along the
+            // incident edge.
+            let edge2 = if dc <= tol { PackedFeatureId::UNKNOWN } else { c.edge2 };
+            out.push(Corner { p: c.p + (next.p - c.p) * t, fid1: edge1, fid2: c.edge2, edge2 });
+        }
+    }
+    out
+}
+
+/// The corners less the repeats (within `tol` of one kept before).
+fn dedup(poly: &[Corner], tol: f64) -> Vec<Corner> {
+    let mut out: Vec<Corner> = Vec::with_capacity(poly.len());
+    for c in poly {
+        if out.iter().all(|o| (o.p - c.p).norm() > tol) {
+            out.push(*c);
+        }
+    }
+    out
+}

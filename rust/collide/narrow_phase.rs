@@ -330,27 +330,33 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
         ball_ball(&pos12, r1, r2, prediction, &mut state.ball);
         return state.ball.is_some_and(|b| b.point.dist <= prediction);
     }
-    if !plane_and_hull(c1, c2, &pos12, prediction, &mut state.manifolds) {
-        let many_cornered = c1.many_cornered || c2.many_cornered;
-        let kept = if many_cornered { super::face_points::keep(&state.manifolds) } else { Vec::new() };
-        // Unsupported pairs are rejected when the world is built; none reach here.
-        let _ = DefaultQueryDispatcher.contact_manifolds(
-            &pos12,
-            c1.shape.as_ref(),
-            c2.shape.as_ref(),
-            prediction,
-            &mut state.manifolds,
-            &mut state.workspace,
-        );
-        let (s1, s2) = (c1.shape.as_ref(), c2.shape.as_ref());
-        if super::touching_polyhedra::may_apply(s1, s2) {
-            super::touching_polyhedra::repair(&mut state.manifolds, s1, s2, &pos12);
-        }
-        if many_cornered {
-            super::face_points::complete(&mut state.manifolds, c1, c2, &pos12, prediction, &kept);
-        }
-    }
+    manifolds_of(c1, c2, &pos12, prediction, (&mut state.manifolds, &mut state.workspace));
     state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction))
+}
+
+/// The manifolds of two colliders (`pos12`: 2 in 1's frame) up to
+/// `prediction`, into `manifolds` and parry's `workspace` (last step's, whose
+/// points carry their warm-start data, or empty): a half-space and a hull by
+/// [`super::plane_hull`], the rest by parry, its manifolds of polyhedra
+/// touching exactly repaired ([`super::touching_polyhedra`]) and the corners
+/// it leaves out of faces of more than four added ([`super::face_points`]).
+/// Used by the narrow phase and by the impacts' contacts at their time of
+/// impact, where the bodies touch exactly.
+pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, prediction: f64, (manifolds, workspace): (&mut Vec<Manifold>, &mut Option<ContactManifoldsWorkspace>)) {
+    if plane_and_hull(c1, c2, pos12, prediction, manifolds) {
+        return;
+    }
+    let many_cornered = c1.many_cornered || c2.many_cornered;
+    let kept = if many_cornered { super::face_points::keep(manifolds) } else { Vec::new() };
+    let (s1, s2) = (c1.shape.as_ref(), c2.shape.as_ref());
+    // Unsupported pairs are rejected when the world is built; none reach here.
+    let _ = DefaultQueryDispatcher.contact_manifolds(pos12, s1, s2, prediction, manifolds, workspace);
+    if super::touching_polyhedra::may_apply(s1, s2) {
+        super::touching_polyhedra::repair(manifolds, s1, s2, pos12);
+    }
+    if many_cornered {
+        super::face_points::complete(manifolds, c1, c2, pos12, prediction, &kept);
+    }
 }
 
 /// The contact of two balls of radii `r1`, `r2` (`pos12`: ball 2 in ball 1's

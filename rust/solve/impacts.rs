@@ -16,12 +16,10 @@
 //! would leave them. Their turns are torque-free flows: momentum and energy are
 //! those of the impact itself.
 
-use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
-
 use super::contact::{Constraint, ContactSolver};
 use super::friction::Patch;
 use super::solver_body::Pair;
-use crate::collide::narrow_phase::Manifold;
+use crate::collide::narrow_phase::{manifolds_of, Manifold};
 use crate::collide::Collider;
 use crate::integrate::free_rotation::flow_one;
 use crate::body::Bodies;
@@ -102,12 +100,8 @@ impl ContactSolver {
         let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
         let pos12 = c1.pose(b).inv_mul(&c2.pose(b));
         let mut manifolds: Vec<Manifold> = Vec::new();
-        let mut workspace = None;
         let reach = 2.0 * self.settings.slop;
-        let found = DefaultQueryDispatcher.contact_manifolds(&pos12, c1.shape.as_ref(), c2.shape.as_ref(), reach, &mut manifolds, &mut workspace);
-        if found.is_err() {
-            return;
-        }
+        manifolds_of(c1, c2, &pos12, reach, (&mut manifolds, &mut None));
         let ctx = self.pair_context(colliders, b, pair, slot);
         for (m, manifold) in manifolds.iter().enumerate() {
             self.push_manifold(&manifold.into(), &ctx, m as u32, false, reach);

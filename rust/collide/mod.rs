@@ -6,6 +6,7 @@ pub mod ccd;
 pub mod collider;
 pub mod corners;
 mod face_clip;
+mod internal_edges;
 pub mod face_points;
 pub mod material;
 pub mod narrow_phase;

@@ -207,6 +207,7 @@ impl NarrowPhase {
         } else {
             self.pairs.iter_mut().zip(self.found.iter_mut()).for_each(step);
         }
+        self.smooth_seams(colliders, bodies);
         // A pair apart is not kept: it carries warm-start data only for points
         // within its prediction.
         let mut order = std::mem::take(&mut self.order);
@@ -222,6 +223,18 @@ impl NarrowPhase {
             _ => true,
         });
         self.order = order;
+    }
+
+    /// The contacts with seams between flush fixed shapes (see
+    /// [`super::internal_edges`]), then which pairs touch after them.
+    fn smooth_seams(&mut self, colliders: &[Collider], bodies: &Bodies) {
+        let near: Vec<u32> = self.order.iter().map(|&(_, s)| s).filter(|&s| matches!(self.found[s as usize], Found::Touching | Found::Near)).collect();
+        super::internal_edges::smooth(&mut self.pairs, &near, colliders, bodies, |st| st.prediction);
+        for s in near {
+            let st = &self.pairs[s as usize];
+            let touching = st.ball.is_some_and(|b| b.point.dist <= st.prediction) || st.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= st.prediction));
+            self.found[s as usize] = if touching { Found::Touching } else { Found::Near };
+        }
     }
 
     /// Matches the candidates to the kept pairs by a merge: the order becomes the

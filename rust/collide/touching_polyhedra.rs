@@ -109,7 +109,7 @@ fn best_face_axis(s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>) -> Opt
 }
 
 /// The outward face normals of a hull or a box, in its own frame.
-fn face_normals(s: &dyn Shape) -> Vec<Unit<Vector3<f64>>> {
+pub(super) fn face_normals(s: &dyn Shape) -> Vec<Unit<Vector3<f64>>> {
     if let Some(h) = s.as_convex_polyhedron() {
         return h.faces().iter().map(|f| f.normal).collect();
     }

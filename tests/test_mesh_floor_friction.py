@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 
 import rigidrs as rr
+from test_tile_seams import floor_tiles
 
 G, MU, V0, HALF = 9.81, 0.3, 5.0, 0.1
 
@@ -43,19 +44,12 @@ def floor(cells: int, size: float = 10.0) -> rr.TriMesh:
     return rr.TriMesh(vertices, np.array(faces))
 
 
-def tiles(scene: rr.Scene) -> None:
-    for i in range(-10, 10):
-        for j in range(-2, 2):
-            scene.add_body(rr.Box((0.25, 0.25, 0.25)), fixed=True, position=(0.5 * i + 0.25, 0.5 * j + 0.25, -0.25),
-                           friction=MU)
-
-
 def slide(ground: rr.Shape | None, y: float = 0.13) -> tuple[float, float]:
     """Largest yaw rate (rad/s) and distance slid (m) of the cube (`None`:
     on box tiles with seams along y = 0, ±0.5 m)."""
     scene = rr.Scene(gravity=(0.0, 0.0, -G))
     if ground is None:
-        tiles(scene)
+        floor_tiles(scene, MU)
     else:
         scene.add_body(ground, fixed=True, friction=MU)
     box = scene.add_body(rr.Box((HALF,) * 3), density=1000.0, position=(-3.0, y, HALF),

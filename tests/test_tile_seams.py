@@ -29,17 +29,23 @@ import rigidrs as rr
 G, MU, HALF = 9.81, 0.3, 0.1
 
 
+def floor_tiles(scene: rr.Scene, friction: float, step: float = 0.0) -> None:
+    """Fixed 0.5 m box tiles, flush edge to edge, top at 0 (from x = 0 on, at
+    `step`), over x in [-5, 5] m and y in [-1, 1] m: seams along y = 0, ±0.5 m."""
+    for i in range(-10, 10):
+        for j in range(-2, 2):
+            top = step if i >= 0 else 0.0
+            scene.add_body(rr.Box((0.25, 0.25, 0.25)), fixed=True, position=(0.5 * i + 0.25, 0.5 * j + 0.25, top - 0.25),
+                           friction=friction)
+
+
 def travel(body: rr.Shape, speed: float, spin: float, tiles: bool, step: float = 0.0, wall: bool = False) -> tuple[float, float]:
     """Distance along x after 2.5 s (m) and the largest lift (m). `step`: the
     tiles from x = 0 on stand that much higher (m); `wall`: a fixed box stands
     on the tiles at x = 0."""
     scene = rr.Scene(gravity=(0.0, 0.0, -G))
     if tiles:
-        for i in range(-10, 10):
-            for j in range(-2, 2):
-                top = step if i >= 0 else 0.0
-                scene.add_body(rr.Box((0.25, 0.25, 0.25)), fixed=True,
-                               position=(0.5 * i + 0.25, 0.5 * j + 0.25, top - 0.25), friction=MU)
+        floor_tiles(scene, MU, step)
         if wall:
             scene.add_body(rr.Box((0.25, 1.0, 0.5)), fixed=True, position=(0.25, 0.0, 0.5), friction=MU)
     else:

@@ -37,12 +37,14 @@ struct Side {
 }
 
 /// Gives the edge contacts of the pairs `slots` that lie flush in a face
-/// contact of the same body that face's normal (see the module). `prediction`:
-/// a face contact counts if some point is within it (m).
-pub fn smooth(pairs: &mut [PairState], slots: &[u32], colliders: &[Collider], bodies: &Bodies, prediction: impl Fn(&PairState) -> f64) {
-    let mut sides: Vec<Side> = slots.iter().filter_map(|&s| side(pairs.get(s as usize)?, s, colliders, bodies)).collect();
+/// contact of the same body that face's normal (see the module; a face
+/// contact counts if some point is within its pair's prediction). Returns
+/// the slots of the pairs changed.
+pub fn smooth(pairs: &mut [PairState], slots: impl Iterator<Item = u32>, colliders: &[Collider], bodies: &Bodies) -> Vec<u32> {
+    let mut sides: Vec<Side> = slots.filter_map(|s| side(pairs.get(s as usize)?, s, colliders, bodies)).collect();
+    let mut changed = Vec::new();
     if sides.len() < 2 {
-        return;
+        return changed;
     }
     sides.sort_by_key(|s| (s.body, s.slot));
     let mut start = 0;
@@ -52,15 +54,16 @@ pub fn smooth(pairs: &mut [PairState], slots: &[u32], colliders: &[Collider], bo
             end += 1;
         }
         if end - start > 1 {
-            smooth_body(pairs, &sides[start..end], colliders, bodies, &prediction);
+            smooth_body(pairs, &sides[start..end], colliders, bodies, &mut changed);
         }
         start = end;
     }
+    changed
 }
 
 /// The pair in `state` as a moving body against a fixed box or hull, if it is one.
 fn side(state: &PairState, slot: u32, colliders: &[Collider], bodies: &Bodies) -> Option<Side> {
-    let (c1, c2) = (colliders.get(state.key.0 as usize)?, colliders.get(state.key.1 as usize)?);
+    let (c1, c2) = colliders_of(state, colliders)?;
     let fixed = |c: &Collider| bodies.kind.get(c.body as usize) == Some(&BodyKind::Fixed) && flat(c.shape.as_ref());
     let moving = |c: &Collider| bodies.kind.get(c.body as usize) == Some(&BodyKind::Dynamic);
     if state.manifolds.is_empty() {
@@ -88,12 +91,12 @@ fn outward<'a>(m: &Manifold, side: &Side, c: (&'a Collider, &'a Collider), bodie
 /// The faces the body touches (outward normal, plane offset `n·x`, how deep
 /// the body sinks into it), then its other contacts with fixed shapes lying in
 /// one of them, given its normal.
-fn smooth_body(pairs: &mut [PairState], sides: &[Side], colliders: &[Collider], bodies: &Bodies, prediction: &impl Fn(&PairState) -> f64) {
+fn smooth_body(pairs: &mut [PairState], sides: &[Side], colliders: &[Collider], bodies: &Bodies, changed: &mut Vec<u32>) {
     let mut faces: Vec<(Vector3<f64>, f64, f64)> = Vec::new();
     for s in sides {
         let state = &pairs[s.slot as usize];
         let Some(c) = colliders_of(state, colliders) else { continue };
-        let reach = prediction(state);
+        let reach = state.prediction;
         for m in state.manifolds.iter().filter(|m| m.subshape_pos1.is_none() && m.subshape_pos2.is_none()) {
             let (n, fixed, _) = outward(m, s, c, bodies);
             let Some(p) = m.points.iter().find(|p| p.dist <= reach) else { continue };
@@ -122,6 +125,7 @@ fn smooth_body(pairs: &mut [PairState], sides: &[Side], colliders: &[Collider], 
             });
             if let Some(&(f, d, _)) = flush {
                 onto_plane(m, s, (c.0, c.1), moving, bodies, (f, d));
+                changed.push(s.slot);
             }
         }
     }

@@ -228,12 +228,10 @@ impl NarrowPhase {
     /// The contacts with seams between flush fixed shapes (see
     /// [`super::internal_edges`]), then which pairs touch after them.
     fn smooth_seams(&mut self, colliders: &[Collider], bodies: &Bodies) {
-        let near: Vec<u32> = self.order.iter().map(|&(_, s)| s).filter(|&s| matches!(self.found[s as usize], Found::Touching | Found::Near)).collect();
-        super::internal_edges::smooth(&mut self.pairs, &near, colliders, bodies, |st| st.prediction);
-        for s in near {
-            let st = &self.pairs[s as usize];
-            let touching = st.ball.is_some_and(|b| b.point.dist <= st.prediction) || st.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= st.prediction));
-            self.found[s as usize] = if touching { Found::Touching } else { Found::Near };
+        let found = &self.found;
+        let near = self.order.iter().map(|&(_, s)| s).filter(|&s| matches!(found[s as usize], Found::Touching | Found::Near));
+        for s in super::internal_edges::smooth(&mut self.pairs, near, colliders, bodies) {
+            self.found[s as usize] = if touches(&self.pairs[s as usize]) { Found::Touching } else { Found::Near };
         }
     }
 
@@ -344,7 +342,12 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
         return state.ball.is_some_and(|b| b.point.dist <= prediction);
     }
     manifolds_of(c1, c2, &pos12, prediction, (&mut state.manifolds, &mut state.workspace));
-    state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= prediction))
+    touches(state)
+}
+
+/// Whether some point of the pair's manifolds is within its prediction.
+fn touches(state: &PairState) -> bool {
+    state.manifolds.iter().any(|m| m.points.iter().any(|p| p.dist <= state.prediction))
 }
 
 /// The manifolds of two colliders (`pos12`: 2 in 1's frame) up to

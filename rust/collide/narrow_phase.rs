@@ -37,24 +37,29 @@ pub struct BallContact {
 
 /// The contact points of one manifold as the solver reads them: parry's, or a
 /// ball pair's.
+#[derive(Clone, Copy)]
 pub struct Contacts<'a> {
     /// Normal in the frame of shape 1 (of its sub-shape, if any).
     pub local_n1: Vector3<f64>,
     /// Poses of the sub-shapes in their shapes (compounds, meshes).
     pub subshape_pos1: Option<Isometry3<f64>>,
     pub subshape_pos2: Option<Isometry3<f64>>,
+    /// Which part of each shape (a mesh's triangle, a compound's part; 0 for
+    /// a shape of one piece).
+    pub subshapes: [u32; 2],
     pub points: &'a [Tracked],
 }
 
 impl<'a> From<&'a Manifold> for Contacts<'a> {
     fn from(m: &'a Manifold) -> Self {
-        Self { local_n1: m.local_n1, subshape_pos1: m.subshape_pos1, subshape_pos2: m.subshape_pos2, points: &m.points }
+        let subshapes = [m.subshape1, m.subshape2];
+        Self { local_n1: m.local_n1, subshape_pos1: m.subshape_pos1, subshape_pos2: m.subshape_pos2, subshapes, points: &m.points }
     }
 }
 
 impl<'a> From<&'a BallContact> for Contacts<'a> {
     fn from(b: &'a BallContact) -> Self {
-        Self { local_n1: b.local_n1, subshape_pos1: None, subshape_pos2: None, points: std::slice::from_ref(&b.point) }
+        Self { local_n1: b.local_n1, subshape_pos1: None, subshape_pos2: None, subshapes: [0; 2], points: std::slice::from_ref(&b.point) }
     }
 }
 
@@ -80,6 +85,15 @@ impl PairState {
     pub fn contacts(&self) -> impl Iterator<Item = (u32, Contacts<'_>)> {
         let ball = self.ball.iter().map(|b| (BALL, Contacts::from(b)));
         ball.chain(self.manifolds.iter().enumerate().map(|(k, m)| (k as u32, Contacts::from(m))))
+    }
+
+    /// Manifold `index` (see [`PairState::contacts`]).
+    pub fn manifold(&self, index: u32) -> Option<Contacts<'_>> {
+        if index == BALL {
+            self.ball.as_ref().map(Contacts::from)
+        } else {
+            self.manifolds.get(index as usize).map(Contacts::from)
+        }
     }
 
     /// The points of manifold `index` (see [`PairState::contacts`]), to store what

@@ -98,8 +98,10 @@ pub struct Point {
     pub normal_impulse: f64,
     /// Normal impulse summed over the step, for reporting (N·s).
     pub total_normal: f64,
-    /// Index of this point in its parry manifold.
-    pub manifold_point: u32,
+    /// Index of its manifold in the pair (a constraint may gather several:
+    /// see [`super::coplanar`]), and of the point in that manifold.
+    pub manifold: u32,
+    pub manifold_point: u16,
     /// Which body the point is a corner of and turns with (1 or 2), or 0: it
     /// moves with the bodies' translations only (see `refresh_constraint`).
     pub corner: u8,
@@ -308,10 +310,14 @@ impl ContactSolver {
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
-            let mut kept = narrow.pairs.get_mut(c.slot as usize).and_then(|s| s.points_mut(c.manifold));
+            let Some(state) = narrow.pairs.get_mut(c.slot as usize) else { continue };
+            let mut kept = (c.manifold, state.points_mut(c.manifold));
             for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 p.total_normal += p.normal_impulse;
-                if let Some(tp) = kept.as_mut().and_then(|m| m.get_mut(p.manifold_point as usize)) {
+                if p.manifold != kept.0 {
+                    kept = (p.manifold, state.points_mut(p.manifold));
+                }
+                if let Some(tp) = kept.1.as_mut().and_then(|m| m.get_mut(p.manifold_point as usize)) {
                     tp.data.normal_impulse = p.normal_impulse;
                     tp.data.friction_impulse = friction;
                     tp.data.twist_impulse = f.twist * share;

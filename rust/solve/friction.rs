@@ -257,18 +257,32 @@ fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], b
     let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
     let reach = touch_reach(nearest);
     let touching = |p: &&Point| gap.separation(p) <= reach;
-    let n = points.iter().filter(touching).count().max(1) as f64;
-    let r1 = points.iter().filter(touching).map(|p| p.r1).sum::<Vec3>() / n;
-    let r2 = points.iter().filter(touching).map(|p| p.r2).sum::<Vec3>() / n;
-    let mut flat = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
-    let mut k = 0;
-    for p in points.iter().filter(touching).take(flat.len()) {
+    let n = points.iter().filter(touching).count();
+    let mean = |arm: fn(&Point) -> Vec3| points.iter().filter(touching).map(arm).sum::<Vec3>() / n.max(1) as f64;
+    let (r1, r2) = (mean(|p| p.r1), mean(|p| p.r2));
+    let flat = |p: &Point| {
         let d = p.r1 - r1;
-        flat[k] = [d.dot(&c.t1), d.dot(&c.t2)];
-        k += 1;
+        [d.dot(&c.t1), d.dot(&c.t2)]
+    };
+    let mut few = [[0.0; 2]; super::limit_surface::MAX_VERTICES * 2];
+    let many: Vec<[f64; 2]>;
+    let flat = if n <= few.len() {
+        for (slot, p) in few.iter_mut().zip(points.iter().filter(touching)) {
+            *slot = flat(p);
+        }
+        &few[..n]
+    } else {
+        many = points.iter().filter(touching).map(flat).collect();
+        &many[..]
+    };
+    if n <= 1 {
+        *shape = PatchShape::default();
+        return (r1, r2);
     }
-    *shape = if k > 1 { PatchShape::new(&flat[..k]) } else { PatchShape::default() };
-    (r1, r2)
+    let (s, centre) = PatchShape::centred(flat);
+    *shape = s;
+    let shift = c.t1 * centre[0] + c.t2 * centre[1];
+    (r1 + shift, r2 + shift)
 }
 
 impl ContactSolver {
@@ -336,3 +350,4 @@ pub(crate) fn mul3(k: &[f64; 6], x: [f64; 3]) -> [f64; 3] {
         k[2] * x[0] + k[4] * x[1] + k[5] * x[2],
     ]
 }
+

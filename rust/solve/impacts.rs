@@ -103,9 +103,8 @@ impl ContactSolver {
         let reach = 2.0 * self.settings.slop;
         manifolds_of(c1, c2, &pos12, reach, (&mut manifolds, &mut None));
         let ctx = self.pair_context(colliders, b, pair, slot);
-        for (m, manifold) in manifolds.iter().enumerate() {
-            self.push_manifold(&manifold.into(), &ctx, m as u32, false, reach);
-        }
+        let members = manifolds.iter().enumerate().map(|(m, manifold)| (m as u32, manifold.into()));
+        self.push_pair(members, &ctx, false, reach);
     }
 
     /// Simultaneous restitution impulses on the approaching points of `fresh`

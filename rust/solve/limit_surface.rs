@@ -47,14 +47,28 @@ impl PatchShape {
     /// The patch of the contact points `p` (tangent-plane coordinates about the
     /// patch centre, m): their convex hull, and its lever.
     pub fn new(p: &[[f64; 2]]) -> Self {
+        with_hull(p, |hull| Self::of_hull(hull, [0.0; 2]))
+    }
+
+    /// The patch of the contact points `p` about the centroid of their convex
+    /// hull, and that centroid (in `p`'s coordinates): the centre of a
+    /// uniform pressure. The mean of the points is not: points repeat where
+    /// the manifolds of a face's triangles meet (see `super::coplanar`).
+    pub fn centred(p: &[[f64; 2]]) -> (Self, [f64; 2]) {
+        with_hull(p, |hull| {
+            let centre = centroid(hull);
+            (Self::of_hull(hull, centre), centre)
+        })
+    }
+
+    /// The patch of a convex polygon, counter-clockwise, about `centre`.
+    fn of_hull(hull: &[[f64; 2]], centre: [f64; 2]) -> Self {
         let mut s = PatchShape::default();
-        let (hull, n) = convex_hull(p);
-        let hull = &hull[..n];
         // More corners than kept (rare: parry's manifolds hold four, a hull face
         // a few more): every other one, evenly.
         let stride = hull.len().div_ceil(MAX_VERTICES).max(1);
         for (k, c) in hull.iter().step_by(stride).enumerate() {
-            s.corners[k] = *c;
+            s.corners[k] = [c[0] - centre[0], c[1] - centre[1]];
             s.n = k as u8 + 1;
         }
         s.lever = s.mean_distance();
@@ -325,45 +339,83 @@ fn segment_mean_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     }
 }
 
-/// Convex hull of a few points (at most 2·[`MAX_VERTICES`] are looked at),
-/// counter-clockwise (monotone chain), in a fixed array: it runs each time a
-/// patch's geometry is refreshed.
-fn convex_hull(p: &[[f64; 2]]) -> ([[f64; 2]; 2 * MAX_VERTICES], usize) {
+/// Centroid of the area of a convex polygon, counter-clockwise (of the
+/// segment between its farthest corners when it has no area to speak of).
+fn centroid(hull: &[[f64; 2]]) -> [f64; 2] {
+    let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    let mut extent: f64 = 0.0;
+    for (k, a) in hull.iter().enumerate() {
+        let b = hull[(k + 1) % hull.len()];
+        let cross = a[0] * b[1] - a[1] * b[0];
+        area += cross;
+        cx += (a[0] + b[0]) * cross;
+        cy += (a[1] + b[1]) * cross;
+        extent = extent.max(norm2(a[0] - hull[0][0], a[1] - hull[0][1]));
+    }
+    if hull.len() >= 3 && area > 2e-6 * extent * extent {
+        return [cx / (3.0 * area), cy / (3.0 * area)];
+    }
+    let s = PatchShape { corners: std::array::from_fn(|k| hull.get(k).copied().unwrap_or_default()), n: hull.len().min(MAX_VERTICES) as u8, lever: 0.0 };
+    match hull.len() {
+        0 => [0.0; 2],
+        1 => hull[0],
+        _ => {
+            let (a, b) = s.farthest_pair();
+            [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
+        }
+    }
+}
+
+/// `f` of the convex hull of points `p`, counter-clockwise (monotone chain),
+/// in fixed arrays for a few points: it runs each time a patch's geometry is
+/// refreshed. Many points (the face of a box on several triangles of a
+/// mesh) are taken on the heap.
+fn with_hull<R>(p: &[[f64; 2]], f: impl FnOnce(&[[f64; 2]]) -> R) -> R {
     const N: usize = 2 * MAX_VERTICES;
+    let sort = |pts: &mut [[f64; 2]]| pts.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    if p.len() > N {
+        let mut pts = p.to_vec();
+        sort(&mut pts);
+        let mut hull = vec![[0.0; 2]; 2 * pts.len() + 1];
+        let n = monotone_chain(&pts, &mut hull);
+        return f(&hull[..n]);
+    }
     let mut pts = [[0.0; 2]; N];
-    let n = p.len().min(N);
-    pts[..n].copy_from_slice(&p[..n]);
-    let pts = &mut pts[..n];
-    pts.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    let mut hull = [[0.0; 2]; 2 * N];
-    let mut len = 0;
+    pts[..p.len()].copy_from_slice(p);
+    sort(&mut pts[..p.len()]);
+    let mut hull = [[0.0; 2]; 2 * N + 1];
+    let n = monotone_chain(&pts[..p.len()], &mut hull);
+    f(&hull[..n])
+}
+
+/// The hull of sorted points `pts` into `hull` (room for 2·len + 1); returns
+/// its number of corners. No tolerance on the turns: one relative to the
+/// span drops true corners between points a round-off apart (the manifolds
+/// of a face's triangles repeat them), and the patch's centre moves.
+fn monotone_chain(pts: &[[f64; 2]], hull: &mut [[f64; 2]]) -> usize {
+    let n = pts.len();
+    if n <= 2 {
+        hull[..n].copy_from_slice(pts);
+        return if n == 2 && norm2(pts[0][0] - pts[1][0], pts[0][1] - pts[1][1]) <= 1e-12 { 1 } else { n };
+    }
     let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let chain = |q: [f64; 2], start: usize, hull: &mut [[f64; 2]; 2 * N], len: &mut usize| {
+    let chain = |q: [f64; 2], start: usize, hull: &mut [[f64; 2]], len: &mut usize| {
         while *len >= start + 2 && cross(hull[*len - 2], hull[*len - 1], q) <= 0.0 {
             *len -= 1;
         }
         hull[*len] = q;
         *len += 1;
     };
-    if n <= 2 {
-        let mut out = [[0.0; 2]; N];
-        out[..n].copy_from_slice(pts);
-        let distinct = if n == 2 && norm2(pts[0][0] - pts[1][0], pts[0][1] - pts[1][1]) <= 1e-12 { 1 } else { n };
-        return (out, distinct);
-    }
-    for &q in pts.iter() {
-        chain(q, 0, &mut hull, &mut len);
+    let mut len = 0;
+    for &q in pts {
+        chain(q, 0, hull, &mut len);
     }
     len -= 1;
     let lower = len;
     for &q in pts.iter().rev() {
-        chain(q, lower, &mut hull, &mut len);
+        chain(q, lower, hull, &mut len);
     }
-    len -= 1;
-    let mut out = [[0.0; 2]; N];
-    let m = len.min(N);
-    out[..m].copy_from_slice(&hull[..m]);
-    (out, m)
+    len - 1
 }
 
 #[cfg(test)]

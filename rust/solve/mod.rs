@@ -7,6 +7,7 @@ pub mod block;
 pub mod block_assembly;
 pub mod contact;
 pub mod contact_groups;
+pub mod coplanar;
 pub mod friction;
 pub mod generalized;
 pub mod impacts;

@@ -10,6 +10,7 @@
 use rayon::prelude::*;
 
 use super::contact::{normal_mass, orthonormal, Constraint, ContactSolver, PairContext, Point};
+use super::coplanar::{self, Member};
 use super::friction::Patch;
 use super::limit_surface::PatchShape;
 use super::reuse::{self, Previous};
@@ -37,11 +38,15 @@ pub struct Preparation {
     pub parallel: bool,
 }
 
-/// Where one manifold's constraint goes, decided by the first pass.
+/// Where one constraint goes, decided by the first pass.
 struct Job {
-    /// Its pair's context in the pass's list, its manifold index in the pair.
+    /// Its pair's context in the pass's list, the index in the pair of its
+    /// first manifold.
     ctx: u32,
     manifold: u32,
+    /// Its manifolds' indices in the pair: `members.1` from `members.0` in the
+    /// first pass's list (see [`super::coplanar`]).
+    members: (u32, u32),
     /// Its points: `len` from `start` in the solver's points.
     start: u32,
     len: u32,
@@ -65,8 +70,8 @@ impl ContactSolver {
         self.support.split = false;
         self.forget_groups();
         if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
-            let (contexts, jobs) = self.place(narrow, colliders, b);
-            self.lay_out(narrow, &contexts, &jobs);
+            let (contexts, jobs, members) = self.place(narrow, colliders, b);
+            self.lay_out(narrow, &contexts, &jobs, &members);
         } else {
             self.constraints.clear();
             self.points.clear();
@@ -76,9 +81,7 @@ impl ContactSolver {
             for &slot in &narrow.touching {
                 let state = &narrow.pairs[slot as usize];
                 let ctx = self.pair_context(colliders, b, state.key, slot);
-                for (m, contacts) in state.contacts() {
-                    self.push_manifold(&contacts, &ctx, m, true, state.prediction);
-                }
+                self.push_pair(state.contacts(), &ctx, true, state.prediction);
             }
         }
         let g = step.gravity.norm();
@@ -107,33 +110,36 @@ impl ContactSolver {
         self.inv_h = 1.0 / h;
     }
 
-    /// The first pass, in pair order: solver bodies, and a job per manifold
-    /// with a point within its pair's prediction.
-    fn place(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> (Vec<PairContext>, Vec<Job>) {
+    /// The first pass, in pair order: solver bodies, and a job per group of
+    /// manifolds with a point within their pair's prediction (see
+    /// [`super::coplanar`]), and the manifold indices of the groups.
+    fn place(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> (Vec<PairContext>, Vec<Job>, Vec<u32>) {
         let mut contexts = Vec::with_capacity(narrow.touching.len());
         let mut jobs = Vec::with_capacity(narrow.touching.len());
+        let mut members = Vec::with_capacity(narrow.touching.len());
         let mut start = 0;
         for &slot in &narrow.touching {
             let state = &narrow.pairs[slot as usize];
             let ctx = self.pair_context(colliders, b, state.key, slot);
             let generalized = self.generalized(&ctx);
-            for (m, contacts) in state.contacts() {
-                let len = within(&contacts, state.prediction);
-                if len == 0 {
-                    continue;
-                }
-                let previous = self.previous.find(ctx.pair, m);
-                jobs.push(Job { ctx: contexts.len() as u32, manifold: m, start, len, previous, generalized });
+            let reach = state.prediction;
+            each_group(state.contacts(), &ctx, reach, |group| {
+                let first = members.len() as u32;
+                members.extend(group.iter().map(|(m, _)| *m));
+                let len = group.iter().map(|(_, c)| within(c, reach)).sum();
+                let previous = self.previous.find(ctx.pair, group[0].0);
+                let (ctx, manifold) = (contexts.len() as u32, group[0].0);
+                jobs.push(Job { ctx, manifold, members: (first, group.len() as u32), start, len, previous, generalized });
                 start += len;
-            }
+            });
             contexts.push(ctx);
         }
-        (contexts, jobs)
+        (contexts, jobs, members)
     }
 
     /// The second pass, over threads: each job's points, constraint and patch
     /// in its place.
-    fn lay_out(&mut self, narrow: &NarrowPhase, contexts: &[PairContext], jobs: &[Job]) {
+    fn lay_out(&mut self, narrow: &NarrowPhase, contexts: &[PairContext], jobs: &[Job], members: &[u32]) {
         let points = jobs.last().map_or(0, |j| (j.start + j.len) as usize);
         // Every slot is written below: only those beyond the arrays' length
         // (two steps old) are zeroed first (zeroing them all was 5 % of a
@@ -154,8 +160,12 @@ impl ContactSolver {
         let one = |((((j, pts), c), (f, shape)), k): ((((&Job, &mut &mut [Point]), &mut Constraint), (&mut Patch, &mut PatchShape)), &mut u32)| {
             let ctx = &contexts[j.ctx as usize];
             let state = &narrow.pairs[ctx.slot as usize];
-            let Some((_, manifold)) = state.contacts().find(|(m, _)| *m == j.manifold) else { return };
-            let src = Source::new(ctx, &manifold, true, state.prediction);
+            let indices = &members[j.members.0 as usize..(j.members.0 + j.members.1) as usize];
+            let group: Vec<Member> = indices.iter().filter_map(|&m| state.manifold(m).map(|c| (m, c))).collect();
+            if group.len() != indices.len() {
+                return;
+            }
+            let src = Source::new(ctx, &group, true, state.prediction);
             let mut slots = pts.iter_mut();
             src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
             let (constraint, kept) = shared.constraint(j, &src, pts);
@@ -234,18 +244,24 @@ impl ContactSolver {
         }
     }
 
-    /// Appends the constraint of one parry manifold, of its points no further
-    /// apart than `reach` (m; nothing if none is); `warm`: start from the impulses
-    /// the manifold carries and keep last step's geometry if it holds.
-    pub(crate) fn push_manifold(&mut self, manifold: &Contacts, ctx: &PairContext, index: u32, warm: bool, reach: f64) {
-        let len = within(manifold, reach);
-        if len == 0 {
-            return;
-        }
+    /// Appends the constraints of a pair's manifolds (those of one normal
+    /// together: see [`super::coplanar`]), of their points no further apart
+    /// than `reach` (m); `warm`: start from the impulses the manifolds carry and
+    /// keep last step's geometry if it holds.
+    pub(crate) fn push_pair<'a>(&mut self, contacts: impl Iterator<Item = Member<'a>>, ctx: &PairContext, warm: bool, reach: f64) {
+        each_group(contacts, ctx, reach, |group| self.push_group(group, ctx, warm, reach));
+    }
+
+    /// Appends the constraint of a group of a pair's manifolds (see
+    /// [`ContactSolver::push_pair`]).
+    fn push_group(&mut self, group: &[Member], ctx: &PairContext, warm: bool, reach: f64) {
+        let len = group.iter().map(|(_, c)| within(c, reach)).sum();
+        let index = group[0].0;
         let previous = if warm { self.previous.find(ctx.pair, index) } else { None };
         let start = self.points.len() as u32;
-        let job = Job { ctx: 0, manifold: index, start, len, previous, generalized: self.generalized(ctx) };
-        let src = Source::new(ctx, manifold, warm, reach);
+        let members = (0, group.len() as u32);
+        let job = Job { ctx: 0, manifold: index, members, start, len, previous, generalized: self.generalized(ctx) };
+        let src = Source::new(ctx, group, warm, reach);
         src.points(|p| self.points.push(p));
         let shared = Shared { bodies: &self.bodies, previous: &self.previous };
         let pts = &mut self.points[start as usize..];
@@ -273,31 +289,64 @@ fn within(manifold: &Contacts, reach: f64) -> u32 {
     manifold.points.iter().filter(|tp| tp.dist <= reach).count() as u32
 }
 
-/// One manifold as the builder reads it.
+/// `each` on every group of a pair's manifolds with a point within `reach`
+/// (m; see [`super::coplanar`]), in order. A pair of one manifold (most
+/// pairs) is its own group, found without allocating.
+fn each_group<'a>(contacts: impl Iterator<Item = Member<'a>>, ctx: &PairContext, reach: f64, mut each: impl FnMut(&[Member<'a>])) {
+    let mut touching = contacts.filter(|(_, c)| within(c, reach) > 0);
+    let Some(first) = touching.next() else { return };
+    let Some(second) = touching.next() else { return each(&[first]) };
+    let mut all = vec![first, second];
+    all.extend(touching);
+    let mut leads = Vec::with_capacity(all.len());
+    let n = coplanar::group(ctx, &all, &mut leads);
+    if n == all.len() {
+        return all.chunks(1).for_each(each);
+    }
+    let mut group = Vec::with_capacity(all.len());
+    for g in 0..n as u32 {
+        group.clear();
+        group.extend(all.iter().zip(&leads).filter(|(_, &l)| l == g).map(|(m, _)| *m));
+        each(&group);
+    }
+}
+
+/// The manifolds of one constraint as the builder reads them.
 struct Source<'a, 'b> {
     ctx: &'a PairContext,
-    manifold: &'a Contacts<'b>,
+    members: &'a [Member<'b>],
     /// Start from the impulses the manifold carries and keep last step's
     /// geometry if it holds (not for an impact's contact).
     warm: bool,
     /// Points further apart than this (m) are left out.
     reach: f64,
-    /// World normal.
+    /// World normal: the first manifold's.
     normal: Vec3,
 }
 
 impl<'a, 'b> Source<'a, 'b> {
-    fn new(ctx: &'a PairContext, manifold: &'a Contacts<'b>, warm: bool, reach: f64) -> Self {
-        let sub1 = manifold.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
-        Source { ctx, manifold, warm, reach, normal: sub1.rotation * manifold.local_n1 }
+    fn new(ctx: &'a PairContext, members: &'a [Member<'b>], warm: bool, reach: f64) -> Self {
+        Source { ctx, members, warm, reach, normal: coplanar::normal_of(ctx, &members[0].1) }
     }
 
-    /// The manifold's points within reach, anchored at the step start, each
+    /// Every point of the manifolds, within reach or not.
+    fn all_points(&self) -> impl Iterator<Item = &crate::collide::narrow_phase::Tracked> {
+        self.members.iter().flat_map(|(_, m)| m.points.iter())
+    }
+
+    /// The manifolds' points within reach, anchored at the step start, each
     /// handed to `put`: a serial build pushes them, with no zeroed slots to
     /// overwrite (and no `Option<Point>` moved per point, as by an iterator).
     #[inline(always)]
     fn points(&self, mut put: impl FnMut(Point)) {
-        let (ctx, m, n) = (self.ctx, self.manifold, self.normal);
+        for (index, m) in self.members {
+            self.points_of(*index, m, &mut put);
+        }
+    }
+
+    #[inline(always)]
+    fn points_of(&self, index: u32, m: &Contacts, put: &mut impl FnMut(Point)) {
+        let (ctx, n) = (self.ctx, self.normal);
         let sub1 = m.subshape_pos1.map_or(ctx.pose1, |s| ctx.pose1 * s);
         let sub2 = m.subshape_pos2.map_or(ctx.pose2, |s| ctx.pose2 * s);
         for (k, tp) in m.points.iter().enumerate().filter(|(_, tp)| tp.dist <= self.reach) {
@@ -312,10 +361,15 @@ impl<'a, 'b> Source<'a, 'b> {
                 separation: tp.dist,
                 point: mid,
                 normal_impulse: if self.warm { tp.data.normal_impulse } else { 0.0 },
-                manifold_point: k as u32,
+                manifold: index,
+                manifold_point: k as u16,
+                // A corner of a fixed shape under a moving face (a vertex of a
+                // floor's triangle under a box) moves with the face: held
+                // still, a sliding face leaves it behind within the step and
+                // the patch's polygon and centre with it.
                 corner: match (ctx.corners[0].at(tp.fid1, &tp.local_p1), ctx.corners[1].at(tp.fid2, &tp.local_p2)) {
-                    (true, false) => 1,
-                    (false, true) => 2,
+                    (true, false) if ctx.s1 != 0 => 1,
+                    (false, true) if ctx.s2 != 0 => 2,
                     _ => 0,
                 },
                 ..Default::default()
@@ -344,7 +398,6 @@ impl Shared<'_> {
                 (n, t1, n.cross(&t1))
             }
         };
-        let points = src.manifold.points;
         let c = Constraint {
             s1: ctx.s1,
             s2: ctx.s2,
@@ -361,7 +414,7 @@ impl Shared<'_> {
             pair: ctx.pair,
             slot: ctx.slot,
             manifold: job.manifold,
-            fresh: !src.warm || points.iter().all(|tp| tp.data.normal_impulse == 0.0),
+            fresh: !src.warm || src.all_points().all(|tp| tp.data.normal_impulse == 0.0),
             lower: 0,
             group: 0,
             generalized: job.generalized,
@@ -391,13 +444,13 @@ impl Shared<'_> {
         if src.warm {
             // Each point carries its share of the patch's impulses: summed, they
             // survive points that appear or vanish between steps.
-            let points = src.manifold.points;
-            let ft: Vec3 = points.iter().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
+            let ft: Vec3 = src.all_points().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
             patch.impulse = [ft.dot(&c.t1), ft.dot(&c.t2)];
             if patch.lever > 0.0 {
-                patch.twist = points.iter().map(|tp| tp.data.twist_impulse).sum();
+                patch.twist = src.all_points().map(|tp| tp.data.twist_impulse).sum();
             }
-            patch.sliding = points.iter().any(|tp| tp.data.sliding);
+            patch.sliding = src.all_points().any(|tp| tp.data.sliding);
         }
     }
 }
+

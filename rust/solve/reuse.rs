@@ -90,7 +90,8 @@ pub(crate) fn holds(p: &Previous, bodies: &[SolverBody], oi: usize, ctx: &PairCo
     }
     let old = &p.points[o.start as usize..(o.start + o.len) as usize];
     let moved = |a: &Point, b: &Point| {
-        a.manifold_point != b.manifold_point
+        a.manifold != b.manifold
+            || a.manifold_point != b.manifold_point
             || a.corner != b.corner
             || (a.anchor1 - b.anchor1).norm() > KEEP_EPS
             || (a.anchor2 - b.anchor2).norm() > KEEP_EPS

@@ -8,9 +8,12 @@
 //! no torque: a box sliding straight over a floor of 20 × 20 squares yawed at
 //! up to 7.8 rad/s. Manifolds of one pair whose normals agree and that share
 //! a part on one side (one face on several triangles) form one constraint
-//! instead, with one patch over all their points: the face's. Different parts
-//! on both sides (two feet of a compound on a mesh) keep their patches: the
-//! hull of two feet is not where they press.
+//! instead, with one patch over all their points: the face's (two halves of
+//! a compound cube on another: the cube's face). Two feet of a compound on a
+//! plane share it too, and their patch's friction acts at the centroid of
+//! the hull of both: under the centre of mass only if the feet are alike
+//! (`tests/test_feet_friction.py`). Different parts on both sides (two feet
+//! on two triangles) keep their patches.
 
 use super::contact::PairContext;
 use crate::collide::narrow_phase::Contacts;

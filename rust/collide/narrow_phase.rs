@@ -44,22 +44,18 @@ pub struct Contacts<'a> {
     /// Poses of the sub-shapes in their shapes (compounds, meshes).
     pub subshape_pos1: Option<Isometry3<f64>>,
     pub subshape_pos2: Option<Isometry3<f64>>,
-    /// Which part of each shape (a mesh's triangle, a compound's part; 0 for
-    /// a shape of one piece).
-    pub subshapes: [u32; 2],
     pub points: &'a [Tracked],
 }
 
 impl<'a> From<&'a Manifold> for Contacts<'a> {
     fn from(m: &'a Manifold) -> Self {
-        let subshapes = [m.subshape1, m.subshape2];
-        Self { local_n1: m.local_n1, subshape_pos1: m.subshape_pos1, subshape_pos2: m.subshape_pos2, subshapes, points: &m.points }
+        Self { local_n1: m.local_n1, subshape_pos1: m.subshape_pos1, subshape_pos2: m.subshape_pos2, points: &m.points }
     }
 }
 
 impl<'a> From<&'a BallContact> for Contacts<'a> {
     fn from(b: &'a BallContact) -> Self {
-        Self { local_n1: b.local_n1, subshape_pos1: None, subshape_pos2: None, subshapes: [0; 2], points: std::slice::from_ref(&b.point) }
+        Self { local_n1: b.local_n1, subshape_pos1: None, subshape_pos2: None, points: std::slice::from_ref(&b.point) }
     }
 }
 

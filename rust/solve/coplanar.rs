@@ -6,14 +6,13 @@
 //! friction patch limited by its own share of the load, and how a rigid face's
 //! load splits between them is arbitrary, so their friction need not add up to
 //! no torque: a box sliding straight over a floor of 20 × 20 squares yawed at
-//! up to 7.8 rad/s. Manifolds of one pair whose normals agree and that share
-//! a part on one side (one face on several triangles) form one constraint
-//! instead, with one patch over all their points: the face's (two halves of
-//! a compound cube on another: the cube's face). Two feet of a compound on a
-//! plane share it too, and their patch's friction acts at the centroid of
-//! the hull of both: under the centre of mass only if the feet are alike
-//! (`tests/test_feet_friction.py`). Different parts on both sides (two feet
-//! on two triangles) keep their patches.
+//! up to 7.8 rad/s. Manifolds of one pair whose normals agree form one
+//! constraint instead, with one patch over all their points: a face's on
+//! several triangles, two halves of a compound cube on another, or two feet
+//! of a compound on a floor. The patch is centred where a uniform pressure
+//! over the union of its manifolds is (see `super::friction`), under the
+//! centre of mass of a body on prismatic feet, not at the centroid of their
+//! hull.
 
 use super::contact::PairContext;
 use crate::collide::narrow_phase::Contacts;
@@ -33,22 +32,19 @@ pub(crate) fn normal_of(ctx: &PairContext, m: &Contacts) -> Vec3 {
     sub1.rotation * m.local_n1
 }
 
-/// `members` grouped, in order: each group led by the first of its
+/// `members` grouped by normal, in order: each group led by the first of its
 /// manifolds, the others those after it whose normal agrees with the
-/// leader's and that share a part with it. `leads[k]` is the group of member
-/// `k`.
+/// leader's. `leads[k]` is the group of member `k`.
 pub(crate) fn group(ctx: &PairContext, members: &[Member], leads: &mut Vec<u32>) -> usize {
     leads.clear();
-    let mut leaders: Vec<([u32; 2], Vec3)> = Vec::new();
+    let mut leaders: Vec<Vec3> = Vec::new();
     for (_, m) in members {
         let n = normal_of(ctx, m);
-        let [a, b] = m.subshapes;
-        let joins = |(parts, l): &([u32; 2], Vec3)| (parts[0] == a || parts[1] == b) && l.dot(&n) >= SAME_NORMAL_COS;
-        match leaders.iter().position(joins) {
+        match leaders.iter().position(|l| l.dot(&n) >= SAME_NORMAL_COS) {
             Some(g) => leads.push(g as u32),
             None => {
                 leads.push(leaders.len() as u32);
-                leaders.push((m.subshapes, n));
+                leaders.push(n);
             }
         }
     }

@@ -252,6 +252,11 @@ impl Patch {
 /// a spinning top, inches above the floor) carries no friction and must not
 /// move the patch's centre or give it a lever. If none touches yet, the
 /// nearest ones.
+///
+/// Its centre is where a uniform pressure over it is centred: the centroid
+/// of its polygon, or of the union of its manifolds' polygons when it
+/// gathers several (see `super::coplanar`): two unequal feet on a plane
+/// press about their union's centroid, not their hull's.
 fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Vec3, Vec3) {
     let gap = Gap::new(bodies, c);
     let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
@@ -279,10 +284,38 @@ fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], b
         *shape = PatchShape::default();
         return (r1, r2);
     }
-    let (s, centre) = PatchShape::centred(flat);
+    let first = points.iter().find(touching).map_or(0, |p| p.manifold);
+    let (s, centre) = if points.iter().filter(touching).all(|p| p.manifold == first) {
+        PatchShape::centred(flat)
+    } else {
+        let centre = PatchShape::union_centre(runs(points.iter().filter(touching).map(|p| p.manifold), flat));
+        match centre {
+            Some(centre) => (PatchShape::about(flat, centre), centre),
+            None => PatchShape::centred(flat),
+        }
+    };
     *shape = s;
     let shift = c.t1 * centre[0] + c.t2 * centre[1];
     (r1 + shift, r2 + shift)
+}
+
+/// `flat` cut where `ids` (one per entry, in runs) changes.
+fn runs<'a>(ids: impl Iterator<Item = u32>, flat: &'a [[f64; 2]]) -> impl Iterator<Item = &'a [[f64; 2]]> {
+    let mut cuts = Vec::new();
+    let mut last = None;
+    for (k, id) in ids.enumerate() {
+        if last.is_some_and(|l| l != id) {
+            cuts.push(k);
+        }
+        last = Some(id);
+    }
+    cuts.push(flat.len());
+    let mut start = 0;
+    cuts.into_iter().map(move |end| {
+        let run = &flat[start.min(end)..end];
+        start = end;
+        run
+    })
 }
 
 impl ContactSolver {

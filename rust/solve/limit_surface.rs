@@ -61,6 +61,25 @@ impl PatchShape {
         })
     }
 
+    /// The patch of the contact points `p` about `centre` (in `p`'s
+    /// coordinates).
+    pub fn about(p: &[[f64; 2]], centre: [f64; 2]) -> Self {
+        with_hull(p, |hull| Self::of_hull(hull, centre))
+    }
+
+    /// The centroid of the union of the convex polygons spanned by each of
+    /// `parts` (sets of points, apart but for their edges), if they have an
+    /// area: where a uniform pressure over them is centred.
+    pub fn union_centre<'a>(parts: impl Iterator<Item = &'a [[f64; 2]]>) -> Option<[f64; 2]> {
+        let (mut area, mut moment) = (0.0, [0.0; 2]);
+        for p in parts {
+            let (a, c) = with_hull(p, area_centroid);
+            area += a;
+            moment = [moment[0] + a * c[0], moment[1] + a * c[1]];
+        }
+        (area > 0.0).then(|| [moment[0] / area, moment[1] / area])
+    }
+
     /// The patch of a convex polygon, counter-clockwise, about `centre`.
     fn of_hull(hull: &[[f64; 2]], centre: [f64; 2]) -> Self {
         let mut s = PatchShape::default();
@@ -342,6 +361,13 @@ fn segment_mean_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// Centroid of the area of a convex polygon, counter-clockwise (of the
 /// segment between its farthest corners when it has no area to speak of).
 fn centroid(hull: &[[f64; 2]]) -> [f64; 2] {
+    area_centroid(hull).1
+}
+
+/// Area and centroid of a convex polygon, counter-clockwise (no area, and the
+/// centre of the segment between its farthest corners, when it has no area
+/// to speak of).
+fn area_centroid(hull: &[[f64; 2]]) -> (f64, [f64; 2]) {
     let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
     let mut extent: f64 = 0.0;
     for (k, a) in hull.iter().enumerate() {
@@ -353,17 +379,18 @@ fn centroid(hull: &[[f64; 2]]) -> [f64; 2] {
         extent = extent.max(norm2(a[0] - hull[0][0], a[1] - hull[0][1]));
     }
     if hull.len() >= 3 && area > 2e-6 * extent * extent {
-        return [cx / (3.0 * area), cy / (3.0 * area)];
+        return (0.5 * area, [cx / (3.0 * area), cy / (3.0 * area)]);
     }
     let s = PatchShape { corners: std::array::from_fn(|k| hull.get(k).copied().unwrap_or_default()), n: hull.len().min(MAX_VERTICES) as u8, lever: 0.0 };
-    match hull.len() {
+    let centre = match hull.len() {
         0 => [0.0; 2],
         1 => hull[0],
         _ => {
             let (a, b) = s.farthest_pair();
             [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
         }
-    }
+    };
+    (0.0, centre)
 }
 
 /// `f` of the convex hull of points `p`, counter-clockwise (monotone chain),

@@ -46,17 +46,19 @@ def free_bodies(n: int = 13_000) -> rr.World:
 PARALLEL_PAIRS = 8192
 
 
-def ball_pit(n: int = 3000) -> rr.World:
-    """Balls poured in a box, touching from the first step: ball pairs."""
+def ball_pit(n: int = 3000, floor: rr.Shape | None = None) -> rr.World:
+    """Balls poured in a box, touching from the first step: ball pairs (on
+    `floor`, default a plane, under a layer of cubes when given)."""
     scene = rr.Scene(gravity=(0, 0, -G))
-    scene.add_body(rr.Plane(), fixed=True)
+    scene.add_body(floor or rr.Plane(), fixed=True)
     for x, y in ((1, 0), (-1, 0), (0, 1), (0, -1)):
         scene.add_body(rr.Plane(normal=(-x, -y, 0), offset=-1.0), fixed=True)
     rng = np.random.default_rng(2)
     for k in range(n):
         jitter = rng.uniform(-0.005, 0.005, size=2)
         x, y, z = (k % 10 - 4.5) * 0.2 + jitter[0], (k // 10 % 10 - 4.5) * 0.2 + jitter[1], 0.1 + 0.199 * (k // 100)
-        scene.add_body(rr.Sphere(0.1), density=1000.0, position=(x, y, z))
+        shape = rr.Box((0.095,) * 3) if floor is not None and k < 100 else rr.Sphere(0.1)
+        scene.add_body(shape, density=1000.0, position=(x, y, z))
     return scene.build(dt=1 / 60, sleep=False)
 
 
@@ -74,6 +76,14 @@ def box_heap(n: int = 1200) -> rr.World:
     return scene.build(dt=1 / 60, sleep=False)
 
 
+def ball_pit_on_triangles() -> rr.World:
+    """The ball pit on a floor of 0.25 m squares cut in triangles, its lowest
+    layer cubes: each cube on two to eight triangles, their manifolds gathered
+    into one constraint (`rust/solve/coplanar.rs`), in the parallel build."""
+    from test_mesh_floor_friction import floor
+    return ball_pit(floor=floor(8, size=2.0))
+
+
 BUILDERS: dict[str, Callable[[], rr.World]] = {
     "stacks": stacks,
     "pyramid": SCENES["pyramid"],
@@ -83,10 +93,11 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "cloth": SCENES["cloth"],
     "kicked_column": SCENES["kicked_column"],
     "ball_pit": ball_pit,
+    "ball_pit_on_triangles": ball_pit_on_triangles,
     "box_heap": box_heap,
     "many_stacks": lambda: stacks(n=400),
 }
-PARALLEL_CONTACTS = ("ball_pit",)
+PARALLEL_CONTACTS = ("ball_pit", "ball_pit_on_triangles")
 
 
 @pytest.mark.parametrize("name", list(BUILDERS))

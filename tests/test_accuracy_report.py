@@ -306,6 +306,17 @@ def test_tiny_report_contacts_at_defaults_are_exact(tiny_joints: Report) -> None
         assert s == pytest.approx(1.0, abs=0.15), (label, s)
 
 
+def test_tiny_report_box_on_a_mesh_slides_straight_at_first_order() -> None:
+    """The box sliding over a triangulated floor: no yaw at any h but the
+    coarsest one-substep point (1/30 s: measured 1.3e-3 rad/s; 1e-10 and below
+    elsewhere), and the stop distance converging at first order (measured
+    1.000 ± 0.001)."""
+    report = rr.accuracy(problems=["mesh_slide"], config=TINY, progress=False)
+    for label, curve in report.result("mesh_slide").curves().items():
+        assert all(r.metrics["yaw"] <= (1e-2 if r.h > 0.02 else 1e-8) for r in curve), (label, curve)
+        assert report.slopes("mesh_slide")[label] == pytest.approx(1.0, abs=0.05), label
+
+
 def test_cli_writes_a_quick_report_of_one_problem(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert cli.main(["accuracy", "--quick", "--problems", "top", "--out", str(tmp_path), "--no-progress"]) == 0
     assert (tmp_path / "report.md").exists()

@@ -254,9 +254,9 @@ impl Patch {
 /// nearest ones.
 ///
 /// Its centre is where a uniform pressure over it is centred: the centroid
-/// of its polygon, or of the union of its manifolds' polygons when it
-/// gathers several (see `super::coplanar`): two unequal feet on a plane
-/// press about their union's centroid, not their hull's.
+/// of its polygon, or, when it gathers several manifolds (see
+/// `super::coplanar`), see [`PatchShape::gathered`]: two unequal feet on a
+/// plane press about their union's centroid, not their hull's.
 fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], bodies: &[SolverBody]) -> (Vec3, Vec3) {
     let gap = Gap::new(bodies, c);
     let nearest = points.iter().map(|p| gap.separation(p)).fold(f64::INFINITY, f64::min);
@@ -288,11 +288,7 @@ fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], b
     let (s, centre) = if points.iter().filter(touching).all(|p| p.manifold == first) {
         PatchShape::centred(flat)
     } else {
-        let centre = PatchShape::union_centre(runs(points.iter().filter(touching).map(|p| p.manifold), flat));
-        match centre {
-            Some(centre) => (PatchShape::about(flat, centre), centre),
-            None => PatchShape::centred(flat),
-        }
+        PatchShape::gathered(flat, runs(points.iter().filter(touching).map(|p| p.manifold), flat))
     };
     *shape = s;
     let shift = c.t1 * centre[0] + c.t2 * centre[1];
@@ -383,4 +379,5 @@ pub(crate) fn mul3(k: &[f64; 6], x: [f64; 3]) -> [f64; 3] {
         k[2] * x[0] + k[4] * x[1] + k[5] * x[2],
     ]
 }
+
 

@@ -25,7 +25,7 @@ from typing import Any, TextIO
 from .. import __version__
 from .base import Config, Method, Point, Problem
 from .articulation import ChainEnergy, HingePendulum
-from .contact import BouncingBall, Incline, KickedColumn, SlipToRoll, SpinningPlate, Tower
+from .contact import BouncingBall, Incline, KickedColumn, MeshSlide, SlipToRoll, SpinningPlate, Tower
 from .plots import write_plots
 from .progress import Progress
 from .rigid import AsymmetricTop, Disc, Dzhanibekov, FastRod, FastSpinner, Projectile
@@ -37,7 +37,7 @@ __all__ = ["PROBLEMS", "Config", "Method", "Point", "Problem", "Report", "Result
            "slope"]
 
 ALL: tuple[type[Problem], ...] = (AsymmetricTop, Dzhanibekov, Disc, FastRod, FastSpinner, HeavyTop, Projectile,
-                                  BouncingBall, Incline, SlipToRoll, Tower, SpinningPlate, KickedColumn, Pendulum,
+                                  BouncingBall, Incline, SlipToRoll, Tower, SpinningPlate, MeshSlide, KickedColumn, Pendulum,
                                   HangingChain, HingePendulum, ChainEnergy)
 PROBLEMS: dict[str, type[Problem]] = {cls.name: cls for cls in ALL}
 

@@ -2,14 +2,15 @@
 bouncing ball, the block on an incline and the sphere launched sliding
 (REFERENCES.md, "Contact"), and at the default contact settings the tall tower of
 equal cubes and the spinning plate ("Contacts and joints at default settings"),
-and the kicked column of cubes at fixed and chosen substeps."""
+the box sliding over a triangulated floor, and the kicked column of cubes at
+fixed and chosen substeps."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-from .. import Box, Plane, Scene, Sphere, World
+from .. import Box, Plane, Scene, Sphere, TriMesh, World
 from .base import Config, Method, Metrics, Point, Problem, dt_sweep
 
 G = 9.81
@@ -267,6 +268,51 @@ class SpinningPlate(ContactProblem):
         t_stop = (k - 1) * point.dt + w[k - 1] / rate
         t_ref = self.stop_time(float(world.bodies.mass[1]), float(world.bodies.inertia[1][2]))
         return {"error": abs(t_stop / t_ref - 1.0), "drift": drift}
+
+
+def triangulated_floor(cells: int, size: float) -> TriMesh:
+    """A flat square floor of side ``size`` (m) about the origin, of ``cells`` ×
+    ``cells`` squares each cut along a diagonal."""
+    xs = np.linspace(-size / 2, size / 2, cells + 1)
+    vertices = np.array([[x, y, 0.0] for y in xs for x in xs])
+    corner = np.arange(cells * (cells + 1)).reshape(cells, cells + 1)[:, :cells].ravel()
+    faces = np.concatenate([np.stack([corner, corner + 1, corner + cells + 2], axis=1),
+                            np.stack([corner, corner + cells + 2, corner + cells + 1], axis=1)])
+    return TriMesh(vertices, faces)
+
+
+class MeshSlide(ContactProblem):
+    """A box sliding over a floor given as triangles: its face rests on several at
+    a time, whose manifolds share one friction patch (rust/solve/coplanar.rs)."""
+
+    name = "mesh_slide"
+    title = "Box sliding straight over a triangulated floor"
+    error_label = "stop-distance error |d / (v0²/2μg) − 1|"
+    reference = ("0.2 m cube launched at v0 = 3 m/s along x, μ = 0.3, over a flat TriMesh of 0.5 m squares cut along "
+                 "their diagonals (the face on two to eight triangles at a time), its path 0.13 m off a row of "
+                 "vertices: Coulomb friction stops it after v0²/(2 μ g) = 1.529 m without turning it; T = 1.2 s")
+    targets = (1e-2, 1e-3)
+    extras = {"yaw": "largest yaw rate (rad/s)", "drift": "sideways drift (m)"}
+    duration = 1.2
+    half, mu, v0 = 0.1, 0.3, 3.0
+
+    def scene(self, copies: int) -> Scene:
+        scene = Scene(gravity=(0.0, 0.0, -G))
+        scene.add_body(triangulated_floor(16, 8.0), fixed=True, friction=self.mu)
+        for k in range(copies):
+            scene.add_body(Box((self.half,) * 3), density=1000.0, position=(-2.0, 0.13 + 0.5 * k, self.half),
+                           linear_velocity=(self.v0, 0.0, 0.0), friction=self.mu)
+        return scene
+
+    def measure(self, world: World, point: Point) -> Metrics:
+        p0 = world.bodies.position[1].copy()
+        yaw = 0.0
+        for _ in range(point.steps):
+            world.step()
+            yaw = max(yaw, abs(float(world.bodies.angular_velocity[1, 2])))
+        d = world.bodies.position[1] - p0
+        exact = self.v0**2 / (2 * self.mu * G)
+        return {"error": abs(float(d[0]) / exact - 1.0), "yaw": yaw, "drift": abs(float(d[1]))}
 
 
 class KickedColumn(ContactProblem):

@@ -18,6 +18,7 @@ pub mod ldlt;
 pub mod limit_surface;
 pub mod lists;
 pub mod overshoot;
+pub mod patch_polygon;
 pub mod position;
 pub mod prepare;
 pub mod projected_gauss_seidel;

@@ -161,11 +161,25 @@ impl ContactSolver {
             let ctx = &contexts[j.ctx as usize];
             let state = &narrow.pairs[ctx.slot as usize];
             let indices = &members[j.members.0 as usize..(j.members.0 + j.members.1) as usize];
-            let group: Vec<Member> = indices.iter().filter_map(|&m| state.manifold(m).map(|c| (m, c))).collect();
+            let member = |&m: &u32| state.manifold(m).map(|c| (m, c));
+            // Most jobs are one manifold: no allocation for them.
+            let one: [Member; 1];
+            let many: Vec<Member>;
+            let group: &[Member] = match indices {
+                [m] => {
+                    let Some(only) = member(m) else { return };
+                    one = [only];
+                    &one
+                }
+                _ => {
+                    many = indices.iter().filter_map(member).collect();
+                    &many
+                }
+            };
             if group.len() != indices.len() {
                 return;
             }
-            let src = Source::new(ctx, &group, true, state.prediction);
+            let src = Source::new(ctx, group, true, state.prediction);
             let mut slots = pts.iter_mut();
             src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
             let (constraint, kept) = shared.constraint(j, &src, pts);

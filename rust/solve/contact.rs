@@ -310,12 +310,12 @@ impl ContactSolver {
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
-            let Some(state) = narrow.pairs.get_mut(c.slot as usize) else { continue };
-            let mut kept = (c.manifold, state.points_mut(c.manifold));
+            let mut state = narrow.pairs.get_mut(c.slot as usize);
+            let mut kept = (c.manifold, state.as_mut().and_then(|s| s.points_mut(c.manifold)));
             for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 p.total_normal += p.normal_impulse;
                 if p.manifold != kept.0 {
-                    kept = (p.manifold, state.points_mut(p.manifold));
+                    kept = (p.manifold, state.as_mut().and_then(|s| s.points_mut(p.manifold)));
                 }
                 if let Some(tp) = kept.1.as_mut().and_then(|m| m.get_mut(p.manifold_point as usize)) {
                     tp.data.normal_impulse = p.normal_impulse;

@@ -18,7 +18,7 @@
 //! integrated in closed form over the patch when both its sliding and its spin
 //! count.
 
-use super::patch_polygon::{area_centroid, centroid, farthest_pair, with_hull};
+use super::patch_polygon::{area_centroid, farthest_pair, with_hull};
 
 /// `sqrt(x² + y²)` (libm's `hypot` guards against overflow at several times the
 /// cost; contact quantities are far from it).
@@ -52,6 +52,7 @@ pub struct PatchShape {
 impl PatchShape {
     /// The patch of the contact points `p` (tangent-plane coordinates about the
     /// patch centre, m): their convex hull, and its lever.
+    #[cfg(test)]
     pub fn new(p: &[[f64; 2]]) -> Self {
         with_hull(p, |hull| Self::of_hull(hull, [0.0; 2]))
     }
@@ -62,7 +63,7 @@ impl PatchShape {
     /// the manifolds of a face's triangles meet (see `super::coplanar`).
     pub fn centred(p: &[[f64; 2]]) -> (Self, [f64; 2]) {
         with_hull(p, |hull| {
-            let centre = centroid(hull);
+            let centre = area_centroid(hull).1;
             (Self::of_hull(hull, centre), centre)
         })
     }

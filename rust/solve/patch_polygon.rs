@@ -3,12 +3,6 @@
 
 use super::limit_surface::{norm2, MAX_VERTICES};
 
-/// Centroid of the area of a convex polygon, counter-clockwise (of the
-/// segment between its farthest corners when it has no area to speak of).
-pub(super) fn centroid(hull: &[[f64; 2]]) -> [f64; 2] {
-    area_centroid(hull).1
-}
-
 /// Area and centroid of a convex polygon, counter-clockwise (no area, and the
 /// centre of the segment between its farthest corners, when it has no area
 /// to speak of).

@@ -40,12 +40,11 @@ pub struct Preparation {
 
 /// Where one constraint goes, decided by the first pass.
 struct Job {
-    /// Its pair's context in the pass's list, the index in the pair of its
-    /// first manifold.
+    /// Its pair's context in the pass's list.
     ctx: u32,
-    manifold: u32,
     /// Its manifolds' indices in the pair: `members.1` from `members.0` in the
-    /// first pass's list (see [`super::coplanar`]).
+    /// parallel build's list (see [`super::coplanar`]; the serial build hands
+    /// the manifolds over directly).
     members: (u32, u32),
     /// Its points: `len` from `start` in the solver's points.
     start: u32,
@@ -128,8 +127,8 @@ impl ContactSolver {
                 members.extend(group.iter().map(|(m, _)| *m));
                 let len = group.iter().map(|(_, c)| within(c, reach)).sum();
                 let previous = self.previous.find(ctx.pair, group[0].0);
-                let (ctx, manifold) = (contexts.len() as u32, group[0].0);
-                jobs.push(Job { ctx, manifold, members: (first, group.len() as u32), start, len, previous, generalized });
+                let ctx = contexts.len() as u32;
+                jobs.push(Job { ctx, members: (first, group.len() as u32), start, len, previous, generalized });
                 start += len;
             });
             contexts.push(ctx);
@@ -270,11 +269,9 @@ impl ContactSolver {
     /// [`ContactSolver::push_pair`]).
     fn push_group(&mut self, group: &[Member], ctx: &PairContext, warm: bool, reach: f64) {
         let len = group.iter().map(|(_, c)| within(c, reach)).sum();
-        let index = group[0].0;
-        let previous = if warm { self.previous.find(ctx.pair, index) } else { None };
+        let previous = if warm { self.previous.find(ctx.pair, group[0].0) } else { None };
         let start = self.points.len() as u32;
-        let members = (0, group.len() as u32);
-        let job = Job { ctx: 0, manifold: index, members, start, len, previous, generalized: self.generalized(ctx) };
+        let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(ctx) };
         let src = Source::new(ctx, group, warm, reach);
         src.points(|p| self.points.push(p));
         let shared = Shared { bodies: &self.bodies, previous: &self.previous };
@@ -427,7 +424,7 @@ impl Shared<'_> {
             b2: ctx.b2,
             pair: ctx.pair,
             slot: ctx.slot,
-            manifold: job.manifold,
+            manifold: src.members[0].0,
             fresh: !src.warm || src.all_points().all(|tp| tp.data.normal_impulse == 0.0),
             lower: 0,
             group: 0,
@@ -467,4 +464,3 @@ impl Shared<'_> {
         }
     }
 }
-

@@ -3,6 +3,7 @@
 
 pub mod broad_phase;
 pub mod ccd;
+mod coincident_points;
 pub mod collider;
 pub mod corners;
 mod face_clip;

@@ -388,6 +388,7 @@ pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, predic
     if many_cornered {
         super::face_points::complete(manifolds, c1, c2, pos12, prediction, &kept);
     }
+    super::coincident_points::merge(manifolds, s1, s2);
 }
 
 /// Each manifold's points, taken out of it, by its pair of parts.

@@ -131,6 +131,10 @@ pub struct Support {
     /// Per world body: the last velocity pass that solved its island, and
     /// the number of the last velocity pass (relax passes do not count).
     pub disturbed: Vec<u64>,
+    /// Per world body: the residual its block had when that pass solved it
+    /// (see `super::quiet`).
+    #[serde(default)]
+    pub change: Vec<f64>,
     #[serde(default)]
     pub last_velocity_pass: u64,
     /// See [`super::rocking`].

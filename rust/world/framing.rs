@@ -21,7 +21,9 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// kept (they are rebuilt by every pass).
 /// 7: the solver bodies' fields in the order a pass reads them; the
 /// patches' polygons apart from the patches.
-pub const FORMAT_VERSION: u32 = 7;
+/// 8: each body's last support-block change (the echo bound of the quiet
+/// islands).
+pub const FORMAT_VERSION: u32 = 8;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

@@ -64,7 +64,7 @@ impl ContactSolver {
     /// Builds the constraints of this step from the touching pairs (in
     /// parallel on the pool the caller installed, if `step.parallel`).
     pub fn prepare(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies, step: &Preparation) {
-        self.start_step(step.h);
+        let warm_scale = self.start_step(step.h);
         self.parallel = step.parallel;
         self.support.split = false;
         self.forget_groups();
@@ -83,6 +83,7 @@ impl ContactSolver {
                 self.push_pair(state.contacts(), &ctx, true, state.prediction);
             }
         }
+        self.scale_warm_start(warm_scale);
         let g = step.gravity.norm();
         let up = if g > 0.0 { -step.gravity / g } else { Vec3::zeros() };
         self.plan_support(&up, g, b);
@@ -90,8 +91,10 @@ impl ContactSolver {
     }
 
     /// Sets last step's constraints aside and starts this step's with the
-    /// fixed world as solver body 0.
-    fn start_step(&mut self, h: f64) {
+    /// fixed world as solver body 0; returns the ratio of this step's substep
+    /// to the last one's, by which the warm start is scaled.
+    fn start_step(&mut self, h: f64) -> f64 {
+        let ratio = if self.inv_h > 0.0 { h * self.inv_h } else { 1.0 };
         for s in &self.bodies[self.bodies.len().min(1)..] {
             self.slot[s.body as usize] = 0;
             self.touching[s.body as usize] = false;
@@ -107,6 +110,7 @@ impl ContactSolver {
         let hertz = self.settings.contact_hertz.min(0.25 / h);
         self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
         self.inv_h = 1.0 / h;
+        ratio
     }
 
     /// The first pass, in pair order: solver bodies, and a job per group of

@@ -93,23 +93,23 @@ impl ContactSolver {
         let (tol, last) = (self.support.residual, self.support.last_velocity_pass);
         let band = TOUCHING * REST_DEPTH * self.settings.slop;
         let islands = self.support.islands;
-        let (mut worst, mut was_active) = (vec![0.0f64; islands], vec![false; islands]);
+        let (mut worst, mut echo) = (vec![0.0f64; islands], vec![false; islands]);
         let look = Look { rule, quiet: QUIET * tol, band, last };
         let looks = self.look_at_blocks(&look);
         let mut targeted = vec![false; self.support.blocks.len()];
         for (g, &(w, t, was)) in looks.iter().enumerate() {
             let i = self.support.blocks[g].island as usize;
             worst[i] = worst[i].max(w);
-            was_active[i] |= was && w > self.echo_bound(g, tol);
+            echo[i] |= was && w > self.echo_bound(g, tol);
             targeted[g] = t;
         }
-        let active: Vec<bool> = worst.iter().zip(&was_active).map(|(&w, &echo)| w > tol || echo).collect();
-        for g in 0..self.support.blocks.len() {
+        let active: Vec<bool> = worst.iter().zip(&echo).map(|(&w, &e)| w > tol || e).collect();
+        for (g, &set) in targeted.iter().enumerate() {
             let b = self.support.blocks[g];
             if !active[b.island as usize] {
                 continue;
             }
-            if !targeted[g] {
+            if !set {
                 self.block_targets(g, rule);
             }
             if rule.relax {
@@ -121,10 +121,6 @@ impl ContactSolver {
                 s.disturbed.resize(world + 1, 0);
             }
             s.disturbed[world] = s.pass;
-            if s.change.len() <= world {
-                s.change.resize(world + 1, 0.0);
-            }
-            s.change[world] = looks[g].0;
         }
         self.support.active = active;
         if !rule.relax {
@@ -132,11 +128,32 @@ impl ContactSolver {
         }
     }
 
+    /// After the sweeps of a velocity pass: how much they changed the upper
+    /// body of each block of the islands they solved (m/s, `|Δv| + arm |Δω|`),
+    /// the echo the next warm start will bring back.
+    pub(crate) fn record_changes(&mut self) {
+        let s = &mut self.support;
+        for b in &s.blocks {
+            if s.active.get(b.island as usize) != Some(&true) {
+                continue;
+            }
+            let k = b.body as usize;
+            let (Some(sb), Some(&(v0, w0))) = (self.bodies.get(k), s.start_velocity.get(k)) else { continue };
+            let moved = s.touched.get(k) == Some(&s.pass);
+            let change = if moved { (sb.v - v0).norm() + b.arm * (sb.w - w0).norm() } else { 0.0 };
+            let world = sb.body as usize;
+            if s.change.len() <= world {
+                s.change.resize(world + 1, 0.0);
+            }
+            s.change[world] = change;
+        }
+    }
+
     /// The residual above which block `g`, whose island the last velocity
     /// pass solved, has that pass's echo to take back: [`QUIET`] of the
-    /// tolerance, or of the residual that pass found at the block if that
-    /// was smaller (its change, which the warm start repeats), but not below
-    /// [`ROUND_OFF`] of the tolerance.
+    /// tolerance, or of the change that pass made to its upper body if that
+    /// was smaller (the warm start repeats it), but not below [`ROUND_OFF`]
+    /// of the tolerance.
     fn echo_bound(&self, g: usize, tol: f64) -> f64 {
         let world = self.bodies[self.support.blocks[g].body as usize].body as usize;
         let change = self.support.change.get(world).copied().unwrap_or(f64::INFINITY);

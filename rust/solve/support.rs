@@ -131,8 +131,8 @@ pub struct Support {
     /// Per world body: the last velocity pass that solved its island, and
     /// the number of the last velocity pass (relax passes do not count).
     pub disturbed: Vec<u64>,
-    /// Per world body: the residual its block had when that pass solved it
-    /// (see `super::quiet`).
+    /// Per world body: how much the last velocity pass that solved its island
+    /// changed its velocity (m/s, see `super::quiet`).
     #[serde(default)]
     pub change: Vec<f64>,
     #[serde(default)]
@@ -419,6 +419,9 @@ impl ContactSolver {
         self.in_islands(&active, |cs, i, sw| cs.sweep_island(i, sw));
         if !self.support.solved.is_empty() {
             self.take_back_overshoot(&active, rule);
+        }
+        if !rule.relax {
+            self.record_changes();
         }
     }
 

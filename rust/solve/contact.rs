@@ -209,10 +209,11 @@ impl ContactSolver {
     /// Changes the substep of this step to `h` (before its first substep): the
     /// soft contacts' constants and what depends on `1/h`.
     pub fn set_substep(&mut self, h: f64) {
-        self.scale_warm_start(h * self.inv_h);
+        let ratio = h * self.inv_h;
+        self.scale_warm_start(ratio);
         let hertz = self.settings.contact_hertz.min(0.25 / h);
         self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
-        self.support.residual *= h * self.inv_h;
+        self.support.residual *= ratio;
         self.inv_h = 1.0 / h;
     }
 

@@ -15,8 +15,8 @@
 //! and the island is quiet again. So an island is solved while the largest
 //! residual of its blocks exceeds the residual tolerance, or, if it was solved
 //! in the pass before, while a block's residual exceeds [`QUIET`] of the
-//! tolerance or of the residual that pass took out of it, whichever is
-//! smaller. A fixed [`QUIET`] of the tolerance left echoes of small
+//! tolerance or of the change that pass made to the block's upper body,
+//! whichever is smaller. A fixed [`QUIET`] of the tolerance left echoes of small
 //! corrections in place: a column of a grid of cubes solved at the first
 //! substep of each step for a speed of 1e-14 m/s had that correction repeated
 //! by the warm start of each later substep, and so its speed grew fourfold a

@@ -95,9 +95,10 @@ impl ContactSolver {
     /// support (a face resting on three of four points, a brick on two
     /// bricks whose tops differ by round-off); the exact solve, which holds
     /// every row at its target, pulls at it too, but nothing rocks. Counted,
-    /// such corners kept a resting 400-box pile on the rocking substeps for
-    /// ever, and a brick wall two thick (8 x 2 x 6) switched to them at step
-    /// 68, which jolted it to 7 mm/s: 89 of 90 bricks moving after 4 s.
+    /// such corners flagged cubes at rest (1e-18 m/s) in a 400-box pile as
+    /// rocking, and a brick wall two thick (8 x 2 x 6) switched to the rocking
+    /// substeps at step 68, which jolted it to 7 mm/s: 89 of 90 bricks moving
+    /// after 4 s.
     pub(super) fn rocks(&self, g: usize, sc: &Scratch) -> bool {
         let b = self.support.blocks[g];
         let u = &self.bodies[b.body as usize];

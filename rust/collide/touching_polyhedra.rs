@@ -37,7 +37,12 @@ const SAME: f64 = 1e-12;
 /// test itself.
 fn applies(s1: &dyn Shape, s2: &dyn Shape) -> bool {
     let flat = |s: &dyn Shape| s.as_convex_polyhedron().is_some() || s.as_cuboid().is_some();
-    flat(s1) && flat(s2) && !(s1.as_cuboid().is_some() && s2.as_cuboid().is_some())
+    flat(s1) && flat(s2) && !two_boxes(s1, s2)
+}
+
+/// Whether both shapes are boxes (parry's own separating-axis pair).
+fn two_boxes(s1: &dyn Shape, s2: &dyn Shape) -> bool {
+    s1.as_cuboid().is_some() && s2.as_cuboid().is_some()
 }
 
 /// Whether some manifold of the pair may be one this module checks (a
@@ -52,7 +57,8 @@ pub fn may_apply(s1: &dyn Shape, s2: &dyn Shape) -> bool {
 pub fn repair(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>) {
     for m in manifolds.iter_mut() {
         let (p1, p2) = (part(s1, m.subshape1), part(s2, m.subshape2));
-        if !touching(m, p1, p2) {
+        let boxes = two_boxes(p1, p2);
+        if !touching(m, p1, p2, boxes) {
             continue;
         }
         // A compound's manifold is in its parts' frames.
@@ -63,26 +69,26 @@ pub fn repair(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12:
         // Two boxes: their edge–edge axes can be a face normal exactly, with
         // the points of two edges, so the manifold is clipped again on the best
         // face whatever its normal.
-        let boxes = p1.as_cuboid().is_some() && p2.as_cuboid().is_some();
         if (boxes || best != n) && s >= separation(p1, p2, &pos, &n) - SAME {
             rebuild(m, p1, p2, &pos, &best);
         }
     }
 }
 
-/// Whether manifold `m` of parts `p1` and `p2` is one to check: two polyhedra
-/// other than two boxes whose GJK point is within [`TOUCH`], or two boxes
-/// touching, within it, at one or two points. parry's separating-axis test of
-/// two boxes takes an edge–edge axis over a face normal when round-off puts
-/// it ahead by 1e-17 m: two cubes stacked exactly then touched at two opposite
-/// corners, the weight they carried warm-started at one, and a grid of cubes
-/// stacked edge to edge was kicked at 0.6 rad/s out of rest. (Checking every
+/// Whether manifold `m` of parts `p1` and `p2` (`boxes`: both are boxes) is
+/// one to check: two polyhedra other than two boxes whose GJK point is within
+/// [`TOUCH`], or two boxes touching, within it, at one or two points.
+/// parry's separating-axis test of two boxes takes an edge–edge axis over a
+/// face normal when round-off puts it ahead by 1e-17 m: two cubes stacked
+/// exactly then touched at two opposite corners, the weight they carried
+/// warm-started at one, and a grid of cubes stacked edge to edge was kicked at
+/// 0.6 rad/s out of rest. (Checking every
 /// touching manifold of two boxes rebuilt the faces of a resting pyramid
 /// whenever its depths fell within [`TOUCH`], and parry's own otherwise: the
 /// warm start lost its points at each change, and the pyramid rocked at 10
 /// steps a second.)
-fn touching(m: &Manifold, p1: &dyn Shape, p2: &dyn Shape) -> bool {
-    if p1.as_cuboid().is_some() && p2.as_cuboid().is_some() {
+fn touching(m: &Manifold, p1: &dyn Shape, p2: &dyn Shape, boxes: bool) -> bool {
+    if boxes {
         let edges = (1..3).contains(&m.points.len());
         return edges && m.points.iter().all(|p| p.dist.abs() <= TOUCH);
     }

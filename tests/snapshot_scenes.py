@@ -121,6 +121,24 @@ def kicked_column() -> rr.World:
     return KickedColumn().scene(1).build(dt=1 / 60, sleep=False)
 
 
+def tile_floor() -> rr.World:
+    """Cubes sliding and spinning over flush box tiles across their seams:
+    constraints joined across pairs (`rust/solve/flush_pairs.rs`), some
+    joining and parting every step."""
+    scene = rr.Scene(gravity=(0, 0, -G))
+    for i in range(-4, 4):
+        for j in range(-4, 4):
+            scene.add_body(rr.Box((0.25, 0.25, 0.25)), fixed=True, position=(0.5 * i + 0.25, 0.5 * j + 0.25, -0.25),
+                           friction=0.3)
+    rng = np.random.default_rng(5)
+    for k in range(12):
+        x, y = rng.uniform(-1.5, 1.5, size=2)
+        v = rng.normal(size=2) * 2.0
+        scene.add_body(rr.Box((0.1, 0.1, 0.1)), density=1000.0, position=(x, y, 0.1 + 0.25 * (k % 3)),
+                       linear_velocity=(v[0], v[1], 0.0), angular_velocity=(0.0, 0.0, rng.normal() * 3.0), friction=0.3)
+    return scene.build(dt=1 / 60)
+
+
 SCENES: dict[str, Callable[[], rr.World]] = {
     "pile": pile,
     "pyramid": pyramid,
@@ -131,6 +149,7 @@ SCENES: dict[str, Callable[[], rr.World]] = {
     "sleeping": sleeping,
     "meshes": meshes,
     "kicked_column": kicked_column,
+    "tile_floor": tile_floor,
 }
 
 

@@ -92,6 +92,7 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "xpbd_joints": SCENES["xpbd_joints"],
     "cloth": SCENES["cloth"],
     "kicked_column": SCENES["kicked_column"],
+    "tile_floor": SCENES["tile_floor"],
     "ball_pit": ball_pit,
     "ball_pit_on_triangles": ball_pit_on_triangles,
     "box_heap": box_heap,

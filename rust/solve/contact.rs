@@ -105,6 +105,10 @@ pub struct Point {
     /// Which body the point is a corner of and turns with (1 or 2), or 0: it
     /// moves with the bodies' translations only (see `refresh_constraint`).
     pub corner: u8,
+    /// Which pair of a joined constraint it came from (see
+    /// [`super::flush_pairs`]); 0 in any other.
+    #[serde(default)]
+    pub part: u8,
 }
 
 /// The points of one manifold, sharing bodies, normal and material.
@@ -151,6 +155,9 @@ pub struct Constraint {
     /// Its arms, masses and patch are still those of its anchors (not
     /// refreshed since built): they may be kept next step (see `super::reuse`).
     pub as_built: bool,
+    /// Its points came from several pairs (see [`super::flush_pairs`]).
+    #[serde(default)]
+    pub joined: bool,
 }
 
 /// The contact solver's state for one step.
@@ -181,6 +188,10 @@ pub struct ContactSolver {
     pub(crate) gathered: bool,
     /// The contacts on articulated links.
     pub gen: super::generalized::Generalized,
+    /// Where the pairs of the joined constraints begin, in point order (see
+    /// [`super::flush_pairs`]).
+    #[serde(default)]
+    pub parts: Vec<super::flush_pairs::Part>,
     /// Last step's constraints and blocks, for their geometry.
     pub(crate) previous: super::reuse::Previous,
     /// Velocities before this substep's warm start (see `super::warm_guard`).
@@ -329,14 +340,22 @@ impl ContactSolver {
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
+            let parts = if c.joined { self.parts.get(self.parts.partition_point(|q| q.start < c.start)..).unwrap_or(&[]) } else { &[] };
+            let slot_of = |p: &Point| if c.joined { parts.get(p.part as usize).map_or(u32::MAX, |q| q.slot) } else { c.slot };
+            let mut key = (c.slot, c.manifold);
             let mut state = narrow.pairs.get_mut(c.slot as usize);
-            let mut kept = (c.manifold, state.as_mut().and_then(|s| s.points_mut(c.manifold)));
+            let mut kept = state.as_mut().and_then(|s| s.points_mut(c.manifold));
             for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 p.total_normal += p.normal_impulse;
-                if p.manifold != kept.0 {
-                    kept = (p.manifold, state.as_mut().and_then(|s| s.points_mut(p.manifold)));
+                let now = (slot_of(p), p.manifold);
+                if now != key {
+                    if now.0 != key.0 {
+                        state = narrow.pairs.get_mut(now.0 as usize);
+                    }
+                    key = now;
+                    kept = state.as_mut().and_then(|s| s.points_mut(p.manifold));
                 }
-                if let Some(tp) = kept.1.as_mut().and_then(|m| m.get_mut(p.manifold_point as usize)) {
+                if let Some(tp) = kept.as_mut().and_then(|m| m.get_mut(p.manifold_point as usize)) {
                     tp.data.normal_impulse = p.normal_impulse;
                     tp.data.friction_impulse = friction;
                     tp.data.twist_impulse = f.twist * share;
@@ -356,9 +375,13 @@ impl ContactSolver {
             let jn: f64 = points.iter().map(|p| p.total_normal).sum();
             for p in points {
                 let share = if jn > 0.0 { p.total_normal / jn } else { 1.0 / points.len() as f64 };
+                let (body_a, body_b) = match c.joined.then(|| self.part_of(c, p)).flatten() {
+                    Some(part) => (part.b1, part.b2),
+                    None => (c.b1, c.b2),
+                };
                 out.push(ContactReport {
-                    body_a: c.b1,
-                    body_b: c.b2,
+                    body_a,
+                    body_b,
                     point: p.point.into(),
                     normal: c.normal.into(),
                     depth: -p.separation,

@@ -21,7 +21,7 @@ use crate::math::Vec3;
 /// Cosine of the largest angle between the normals of two manifolds that share
 /// a constraint (1.4 mrad): a triangulated plane's triangles agree to round-off,
 /// while a terrain's facets that meet at an angle keep their own normals.
-const SAME_NORMAL_COS: f64 = 1.0 - 1e-6;
+pub(crate) const SAME_NORMAL_COS: f64 = 1.0 - 1e-6;
 
 /// One manifold of a pair: its index in the pair and its points.
 pub(crate) type Member<'a> = (u32, Contacts<'a>);

@@ -284,11 +284,12 @@ fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], b
         *shape = PatchShape::default();
         return (r1, r2);
     }
-    let first = points.iter().find(touching).map_or(0, |p| p.manifold);
-    let (s, centre) = if points.iter().filter(touching).all(|p| p.manifold == first) {
+    let manifold = |p: &Point| (p.part, p.manifold);
+    let first = points.iter().find(touching).map_or((0, 0), manifold);
+    let (s, centre) = if points.iter().filter(touching).all(|p| manifold(p) == first) {
         PatchShape::centred(flat)
     } else {
-        PatchShape::gathered(flat, runs(points.iter().filter(touching).map(|p| p.manifold), flat))
+        PatchShape::gathered(flat, runs(points.iter().filter(touching).map(manifold), flat))
     };
     *shape = s;
     let shift = c.t1 * centre[0] + c.t2 * centre[1];
@@ -296,7 +297,7 @@ fn patch_of_touching(shape: &mut PatchShape, c: &Constraint, points: &[Point], b
 }
 
 /// `flat` cut where `ids` (one per entry, in runs) changes.
-fn runs<'a>(ids: impl Iterator<Item = u32>, flat: &'a [[f64; 2]]) -> impl Iterator<Item = &'a [[f64; 2]]> {
+fn runs<T: PartialEq>(ids: impl Iterator<Item = T>, flat: &[[f64; 2]]) -> impl Iterator<Item = &[[f64; 2]]> {
     let mut cuts = Vec::new();
     let mut last = None;
     for (k, id) in ids.enumerate() {

@@ -74,7 +74,12 @@ impl ContactSolver {
         let c = self.constraints[ci];
         self.advance(b, &c, t_c, 1.0);
         let (first_c, first_p) = (self.constraints.len(), self.points.len());
-        self.fresh_contacts(b, colliders, c.pair, c.slot);
+        // A joined constraint's pairs (see `super::flush_pairs`) are fixed
+        // faces flush with each other: its own points, refreshed, are the
+        // contact of the instant.
+        if !c.joined {
+            self.fresh_contacts(b, colliders, c.pair, c.slot);
+        }
         let fresh: Vec<usize> = if self.constraints.len() > first_c {
             (first_c..self.constraints.len()).collect()
         } else {

@@ -8,6 +8,7 @@ pub mod block_assembly;
 pub mod contact;
 pub mod contact_groups;
 pub mod coplanar;
+pub mod flush_pairs;
 pub mod friction;
 pub mod generalized;
 pub mod impacts;

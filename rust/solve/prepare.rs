@@ -83,6 +83,7 @@ impl ContactSolver {
                 self.push_pair(state.contacts(), &ctx, true, state.prediction);
             }
         }
+        self.join_flush_pairs(b);
         self.scale_warm_start(warm_scale);
         let g = step.gravity.norm();
         let up = if g > 0.0 { -step.gravity / g } else { Vec3::zeros() };
@@ -436,6 +437,7 @@ impl Shared<'_> {
             settled: true,
             landing: false,
             as_built: true,
+            joined: false,
         };
         (c, kept)
     }

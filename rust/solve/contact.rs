@@ -340,7 +340,7 @@ impl ContactSolver {
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
-            let parts = if c.joined { self.parts.get(self.parts.partition_point(|q| q.start < c.start)..).unwrap_or(&[]) } else { &[] };
+            let parts = super::flush_pairs::parts_of(&self.parts, c);
             let slot_of = |p: &Point| if c.joined { parts.get(p.part as usize).map_or(u32::MAX, |q| q.slot) } else { c.slot };
             let mut key = (c.slot, c.manifold);
             let mut state = narrow.pairs.get_mut(c.slot as usize);
@@ -373,9 +373,10 @@ impl ContactSolver {
             let f = &self.patches[ci];
             let total = c.t1 * f.total[0] + c.t2 * f.total[1];
             let jn: f64 = points.iter().map(|p| p.total_normal).sum();
+            let parts = super::flush_pairs::parts_of(&self.parts, c);
             for p in points {
                 let share = if jn > 0.0 { p.total_normal / jn } else { 1.0 / points.len() as f64 };
-                let (body_a, body_b) = match c.joined.then(|| self.part_of(c, p)).flatten() {
+                let (body_a, body_b) = match parts.get(p.part as usize) {
                     Some(part) => (part.b1, part.b2),
                     None => (c.b1, c.b2),
                 };

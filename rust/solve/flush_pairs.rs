@@ -208,11 +208,15 @@ impl ContactSolver {
         self.previous.kept.push(reuse::NONE);
     }
 
-    /// The pair that point `p` of the joined constraint `c` came from.
-    pub(crate) fn part_of(&self, c: &Constraint, p: &Point) -> Option<&Part> {
-        let first = self.parts.partition_point(|q| q.start < c.start);
-        self.parts.get(first + p.part as usize)
+}
+
+/// The pairs of constraint `c`, in the order of its points' `part` (none if
+/// it is not joined), of a step's `parts`.
+pub(crate) fn parts_of<'a>(parts: &'a [Part], c: &Constraint) -> &'a [Part] {
+    if !c.joined {
+        return &[];
     }
+    parts.get(parts.partition_point(|q| q.start < c.start)..).unwrap_or(&[])
 }
 
 /// The points of `c` in `points` (none if out of range).

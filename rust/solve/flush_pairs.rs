@@ -165,7 +165,10 @@ impl ContactSolver {
                 self.shapes.push(shapes.get(ci).copied().unwrap_or_default());
                 self.previous.kept.push(kept.get(ci).copied().unwrap_or(reuse::NONE));
             } else if lead == ci as u32 {
-                let group: Vec<usize> = groups.next().unwrap_or_default().iter().map(|&(_, m)| m as usize).collect();
+                let mut group: Vec<usize> = groups.next().unwrap_or_default().iter().map(|&(_, m)| m as usize).collect();
+                if group.first() != Some(&ci) {
+                    group = vec![ci];
+                }
                 self.push_joined(&constraints, &patches, &points, &group, b);
             }
         }
@@ -207,7 +210,6 @@ impl ContactSolver {
         self.shapes.push(shape);
         self.previous.kept.push(reuse::NONE);
     }
-
 }
 
 /// The pairs of constraint `c`, in the order of its points' `part` (none if

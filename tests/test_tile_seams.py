@@ -29,13 +29,26 @@ import rigidrs as rr
 G, MU, HALF = 9.81, 0.3, 0.1
 
 
-def floor_tiles(scene: rr.Scene, friction: float, step: float = 0.0) -> None:
-    """Fixed 0.5 m box tiles, flush edge to edge, top at 0 (from x = 0 on, at
-    `step`), over x in [-5, 5] m and y in [-1, 1] m: seams along y = 0, ±0.5 m."""
+def tile(kind: str) -> rr.Shape:
+    """A 0.5 m tile centred on its origin: a box, the same as a convex hull, or
+    its top face alone as a two-triangle mesh."""
+    h = 0.25
+    if kind == "hull":
+        return rr.ConvexHull(np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)]))
+    if kind == "mesh":
+        top = np.array([[-h, -h, h], [h, -h, h], [h, h, h], [-h, h, h]])
+        return rr.TriMesh(top, np.array([[0, 1, 2], [0, 2, 3]]))
+    return rr.Box((h, h, h))
+
+
+def floor_tiles(scene: rr.Scene, friction: float, step: float = 0.0, kind: str = "box") -> None:
+    """Fixed 0.5 m tiles (see `tile`), flush edge to edge, top at 0 (from x = 0
+    on, at `step`), over x in [-5, 5] m and y in [-1, 1] m: seams along y = 0,
+    ±0.5 m."""
     for i in range(-10, 10):
         for j in range(-2, 2):
             top = step if i >= 0 else 0.0
-            scene.add_body(rr.Box((0.25, 0.25, 0.25)), fixed=True, position=(0.5 * i + 0.25, 0.5 * j + 0.25, top - 0.25),
+            scene.add_body(tile(kind), fixed=True, position=(0.5 * i + 0.25, 0.5 * j + 0.25, top - 0.25),
                            friction=friction)
 
 

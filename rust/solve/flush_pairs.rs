@@ -1,6 +1,6 @@
 //! One constraint, one friction patch, for a body's contacts with several
-//! fixed shapes whose faces are flush: a box on a floor of box tiles,
-//! straddling a seam.
+//! fixed shapes whose faces are flush: a box on a floor of tiles (boxes,
+//! hulls or separate meshes), straddling a seam.
 //!
 //! Each tile is a collider pair of its own, and each pair a constraint with a
 //! friction patch limited by its own share of the load. How a rigid face's

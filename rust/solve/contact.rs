@@ -341,7 +341,7 @@ impl ContactSolver {
             let share = 1.0 / c.len as f64;
             let friction: [f64; 3] = ((c.t1 * f.impulse[0] + c.t2 * f.impulse[1]) * share).into();
             let parts = super::flush_pairs::parts_of(&self.parts, c);
-            let slot_of = |p: &Point| if c.joined { parts.get(p.part as usize).map_or(u32::MAX, |q| q.slot) } else { c.slot };
+            let slot_of = |p: &Point| parts.get(p.part as usize).map_or(c.slot, |q| q.slot);
             let mut key = (c.slot, c.manifold);
             let mut state = narrow.pairs.get_mut(c.slot as usize);
             let mut kept = state.as_mut().and_then(|s| s.points_mut(c.manifold));

@@ -39,10 +39,8 @@ const MAX_PARTS: usize = u8::MAX as usize + 1;
 pub struct Part {
     /// Index of its first point in `ContactSolver::points`.
     pub start: u32,
-    /// The pair's index in the narrow phase's `pairs`, its colliders and its
-    /// bodies.
+    /// The pair's index in the narrow phase's `pairs`, and its bodies.
     pub slot: u32,
-    pub pair: (u32, u32),
     pub b1: u32,
     pub b2: u32,
 }
@@ -65,15 +63,13 @@ impl ContactSolver {
     /// Whether constraint `c` may join others: one side fixed (solver body 0),
     /// the other a dynamic body, not an articulation's.
     fn joinable(&self, c: &Constraint) -> bool {
-        let moving = if c.s1 == 0 { c.s2 } else { c.s1 };
-        (c.s1 == 0) != (c.s2 == 0) && !c.generalized && c.len > 0 && self.bodies.get(moving as usize).is_some_and(|s| s.dynamic)
+        (c.s1 == 0) != (c.s2 == 0) && !c.generalized && c.len > 0 && self.bodies.get(moving(c)).is_some_and(|s| s.dynamic)
     }
 
     /// Per constraint, the constraint leading the group it joins (itself for
     /// a leader), or [`ALONE`]; empty when nothing joins.
     fn flush_leads(&self, b: &Bodies) -> Vec<u32> {
         let mut count = vec![0u8; self.bodies.len()];
-        let moving = |c: &Constraint| if c.s1 == 0 { c.s2 } else { c.s1 } as usize;
         for c in self.constraints.iter().filter(|c| self.joinable(c)) {
             if let Some(n) = count.get_mut(moving(c)) {
                 *n = n.saturating_add(1);
@@ -88,23 +84,20 @@ impl ContactSolver {
         }
         several.sort_unstable();
         let mut leads = vec![ALONE; self.constraints.len()];
-        let mut joined = false;
         for body in several.chunk_by(|a, b| a.0 == b.0) {
-            joined |= self.group_flush(body.iter().map(|&(_, ci)| ci as usize), b, &mut leads);
+            self.group_flush(body.iter().map(|&(_, ci)| ci as usize), b, &mut leads);
         }
-        if joined {
-            leads
-        } else {
-            Vec::new()
+        if leads.iter().all(|&l| l == ALONE) {
+            return Vec::new();
         }
+        leads
     }
 
     /// Groups one body's joinable constraints `cis` (in order) that are
-    /// flush with a leader's: the same side fixed, normal, material and plane.
-    /// Returns whether some group has two.
-    fn group_flush(&self, cis: impl Iterator<Item = usize>, b: &Bodies, leads: &mut [u32]) -> bool {
+    /// flush with a leader's: the same side fixed, normal, material and plane
+    /// (a leader is marked once another joins it).
+    fn group_flush(&self, cis: impl Iterator<Item = usize>, b: &Bodies, leads: &mut [u32]) {
         let mut leaders: Vec<(usize, usize)> = Vec::new();
-        let mut joined = false;
         for ci in cis {
             let c = &self.constraints[ci];
             let found = leaders.iter_mut().find(|(l, n)| *n < MAX_PARTS && self.flush(&self.constraints[*l], c, b));
@@ -113,12 +106,10 @@ impl ContactSolver {
                     leads[ci] = *l as u32;
                     leads[*l] = *l as u32;
                     *n += 1;
-                    joined = true;
                 }
                 None => leaders.push((ci, 1)),
             }
         }
-        joined
     }
 
     /// Whether `c` lies flush with `lead`.
@@ -185,7 +176,7 @@ impl ContactSolver {
         let (mut twist, mut sliding, mut fresh) = (0.0, false, true);
         for (k, &m) in group.iter().enumerate() {
             let c = &constraints[m];
-            self.parts.push(Part { start: self.points.len() as u32, slot: c.slot, pair: c.pair, b1: c.b1, b2: c.b2 });
+            self.parts.push(Part { start: self.points.len() as u32, slot: c.slot, b1: c.b1, b2: c.b2 });
             let d = self.origin_of(c, b).unwrap_or(origin) - origin;
             for p in range(points, c) {
                 self.points.push(rebased(p, d, &lead, k as u8));
@@ -219,6 +210,11 @@ pub(crate) fn parts_of<'a>(parts: &'a [Part], c: &Constraint) -> &'a [Part] {
         return &[];
     }
     parts.get(parts.partition_point(|q| q.start < c.start)..).unwrap_or(&[])
+}
+
+/// The solver body of `c` that moves (the other is solver body 0).
+fn moving(c: &Constraint) -> usize {
+    (if c.s1 == 0 { c.s2 } else { c.s1 }) as usize
 }
 
 /// The points of `c` in `points` (none if out of range).

@@ -27,8 +27,9 @@ DT = 1.0 / 240.0
 R = 0.1  # ball radius (m)
 H = DT / 4  # substep of the default 4 substeps with contacts
 E_TOL = 0.01  # REFERENCES.md: measured e within 0.01 of the set e
-# Impact speed that the engine's default ``restitution_threshold`` (1 m/s) calls a
-# bounce; the main bar is checked on every bounce at least that fast (apex >= v^2/2g).
+# Impact speed down to which the main bar is checked on every bounce (apex >= v^2/2g):
+# a fixed 1 m/s was the default ``restitution_threshold`` once; see the tests of the
+# default below for slower bounces.
 V_BOUNCE = 1.0
 H_BOUNCE = V_BOUNCE**2 / (2 * G)
 
@@ -196,3 +197,80 @@ def test_box_landing_flat_bounces_flat(yaw):
     assert len(heights) >= 1
     assert abs(measured_e(h0, heights[:1])[0] - e) <= E_TOL
     assert spin <= 1e-12
+
+
+# The default ``restitution_threshold`` (None): twice the speed gravity gives in a
+# contact substep, 2 g DT / 4 = 0.041 m/s at 240 Hz. It was a fixed 1 m/s, under
+# which nothing bounced whatever its restitution: a ball of e = 0.9 dropped from
+# 3 cm (0.77 m/s) or 1 cm (0.44 m/s) landed dead.
+DEFAULT_THRESHOLD = 2 * G * H
+
+
+# The contact substeps kick, then drift (first order in the substep): near the
+# ground a ball lags its parabola by g H^2 / 2 a substep, lands a little early and
+# leaves a little slow, an error of order g H in the speed of each bounce (measured
+# 0.16-0.54 g H). Bound used: (1 + e) g H on the way in and out, relative to the
+# impact speed; a bounce at 1 m/s meets E_TOL within it, slower ones do not (see
+# the xfail below).
+def first_order_bound(e, v_in):
+    return (1 + e) * G * H / v_in
+
+
+@pytest.mark.parametrize("e,h0", [(0.9, 0.03), (0.9, 0.01), (0.5, 0.02)])
+def test_a_ball_dropped_from_centimetres_bounces_at_the_default_threshold(e, h0):
+    t, gap, vz = drop(e, h0, threshold=None, seconds=1.0)
+    heights = apexes(gap, vz)
+    # Every bounce of the ideal sequence faster than twice the default threshold, up to 3.
+    speeds = [math.sqrt(2 * G * e ** (2 * n - 2) * h0) for n in range(1, 4)]
+    expected = [v for v in speeds if e * v > 2 * DEFAULT_THRESHOLD]
+    assert expected, "the case must have a bounce to check"
+    assert len(heights) >= len(expected)
+    for m, v_in in zip(measured_e(h0, heights[: len(expected)]), expected):
+        assert abs(m - e) <= first_order_bound(e, v_in), (m, v_in)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "bounces slower than ~1 m/s at 240 Hz miss the REFERENCES e bar (0.01): the contact substeps "
+    "are first order (kick, then drift), an error of order g h in each bounce's speed. Measured "
+    "for e = 0.5 dropped from 2 cm: e 0.4913, 0.4753, 0.4479 for impacts at 0.63, 0.31, 0.16 m/s; "
+    "for e = 0.9 from 1 cm: 0.8914, 0.8877 at 0.44, 0.40 m/s. The error halves with the step "
+    "(e = 0.5 at 0.63 m/s: 0.9825, 0.9957, 0.9989 of e at 240, 960, 3840 Hz)."))
+def test_slow_bounces_keep_e_within_the_bar():
+    e, h0 = 0.5, 0.02
+    t, gap, vz = drop(e, h0, threshold=0.0, seconds=1.0)
+    heights = apexes(gap, vz)
+    assert len(heights) >= 2
+    for m in measured_e(h0, heights[:2]):
+        assert abs(m - e) <= E_TOL
+
+
+@pytest.mark.parametrize("shape", ["ball", "box"])
+@pytest.mark.parametrize("e", [1.0, 0.5])
+def test_a_body_resting_with_restitution_does_not_bounce_at_the_default_threshold(shape, e):
+    # A body at rest approaches its support at g h after each substep's kick;
+    # the default threshold (2 g h) calls that resting. With a threshold of 0
+    # an elastic ball resting on the ground hops g h^2 / 2 each substep.
+    half = 0.1
+    scene = rr.Scene(gravity=(0.0, 0.0, -G))
+    scene.add_body(rr.Plane(), fixed=True, restitution=e)
+    body = scene.add_body(rr.Sphere(half) if shape == "ball" else rr.Box((half, half, half)), density=1000.0,
+                          position=(0.0, 0.0, half), restitution=e)
+    world = scene.build(dt=DT, sleep=False)
+    top = 0.0
+    for _ in range(240):
+        world.step(1)
+        top = max(top, float(world.bodies.position[body, 2]) - half)
+    # It rests 1 µm deep (the rest depth); a hop would be ~g h^2 / 2 = 9 µm high.
+    assert top <= 1e-6
+    assert float(np.linalg.norm(world.bodies.linear_velocity[body])) <= 1e-9
+
+
+def test_a_bouncing_ball_comes_to_rest_at_the_default_threshold():
+    # Bounces faster than the threshold keep e; slower ones end: the ball rests
+    # after a finite number of bounces instead of hopping for ever.
+    e, h0 = 0.5, 0.1
+    t, gap, vz = drop(e, h0, threshold=None, seconds=2.0)
+    last = t > 1.5
+    # At the rest depth, 1 µm below the surface (round-off on top of it).
+    assert np.max(np.abs(gap[last])) <= 1.001e-6
+    assert np.max(np.abs(vz[last])) <= 1e-9

@@ -420,7 +420,7 @@ class Scene:
         iterations: int = 1,
         *,
         sleep: bool = True,
-        restitution_threshold: float = 1.0,
+        restitution_threshold: float | None = None,
         slop: float = 0.005,
         contact_hertz: float | None = None,
         contact_damping_ratio: float = 10.0,
@@ -445,7 +445,9 @@ class Scene:
         1/960 s (16 at 60 Hz) while a slow body rocks on its supports in a settling scene, see
         ``World.last_substeps``); ``iterations`` contact-solver and joint iterations per substep
         (default 1). Contacts: ``restitution_threshold``
-        (m/s, approach speed below which nothing bounces, default 1, 0 allowed), ``slop``
+        (m/s, approach speed below which nothing bounces, 0 allowed; default None: twice the
+        speed gravity gives in a contact substep, ``2 |g| dt / substeps``, 0.08 m/s at 60 Hz and
+        4 substeps, 0 without gravity: a resting contact does not bounce, a landing does), ``slop``
         (m, the linear slop: contacts are predicted this far ahead, on top of what the bodies
         close in a step; resting penetration stays within it; default 0.005), ``contact_hertz`` (Hz,
         how fast penetration beyond the rest depth is pushed out, default None: 30; capped at a

@@ -213,7 +213,7 @@ impl PyScene {
 
     /// Compiles the scene into a `World`. See the stub for the parameters.
     #[pyo3(signature = (dt, integrator="strang", substeps=None, iterations=1, *, sleep=true,
-                        restitution_threshold=1.0, slop=0.005, contact_hertz=None,
+                        restitution_threshold=None, slop=0.005, contact_hertz=None,
                         contact_damping_ratio=10.0, max_push_velocity=3.0,
                         sleep_linear=0.05, sleep_angular=0.05, sleep_time=0.5,
                         articulations=true, articulation_integrator="leapfrog", articulation_substeps=None,
@@ -227,7 +227,7 @@ impl PyScene {
         substeps: Option<i64>,
         iterations: i64,
         sleep: bool,
-        restitution_threshold: f64,
+        restitution_threshold: Option<f64>,
         slop: f64,
         contact_hertz: Option<f64>,
         contact_damping_ratio: f64,

@@ -16,7 +16,7 @@
 //! would leave them. Their turns are torque-free flows: momentum and energy are
 //! those of the impact itself.
 
-use super::contact::{Constraint, ContactSolver};
+use super::contact::{Constraint, ContactSolver, RESTING_APPROACH};
 use super::friction::Patch;
 use super::solver_body::Pair;
 use crate::collide::narrow_phase::{manifolds_of, Manifold};
@@ -50,7 +50,7 @@ impl ContactSolver {
     /// approaching faster than the threshold touches, if any.
     fn time_of_impact(&self, ci: usize, h: f64) -> Option<f64> {
         let c = self.constraints[ci];
-        let thr = self.settings.restitution_threshold.max(1e-12);
+        let thr = self.restitution_threshold(h).max(1e-12);
         let mut first: Option<f64> = None;
         for p in &self.points[c.start as usize..(c.start + c.len) as usize] {
             let vn = self.normal_velocity(&c, p);
@@ -63,6 +63,14 @@ impl ContactSolver {
             }
         }
         first
+    }
+
+    /// The approach speed (m/s) below which a contact does not bounce in a
+    /// substep of `h` (s): the one set, or [`RESTING_APPROACH`] times what
+    /// gravity gives in the substep.
+    fn restitution_threshold(&self, h: f64) -> f64 {
+        let gravity = self.support.substep_gravity() * self.inv_h;
+        self.settings.restitution_threshold.unwrap_or(RESTING_APPROACH * gravity * h)
     }
 
     /// One impact: the bodies are taken to the time of impact, where their contact

@@ -23,7 +23,7 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// patches' polygons apart from the patches.
 /// 8: each body's last support-block change (the echo bound of the quiet
 /// islands).
-pub const FORMAT_VERSION: u32 = 8;
+pub const FORMAT_VERSION: u32 = 9;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

@@ -87,7 +87,9 @@ impl Settings {
         non_negative("contact_hertz", s.contact_hertz)?;
         non_negative("contact_damping_ratio", s.contact_damping_ratio)?;
         positive("max_push_velocity", s.max_push_velocity)?;
-        non_negative("restitution_threshold", s.restitution_threshold)?;
+        if let Some(t) = s.restitution_threshold {
+            non_negative("restitution_threshold", t)?;
+        }
         non_negative("slop", s.slop)?;
         non_negative("sleep linear threshold", self.sleep.linear)?;
         non_negative("sleep angular threshold", self.sleep.angular)?;

@@ -15,7 +15,7 @@ use super::friction::Patch;
 use super::limit_surface::PatchShape;
 use super::reuse::{self, Previous};
 use super::soft::Softness;
-use super::solver_body::SolverBody;
+use super::solver_body::{Rounding, SolverBody, Surface};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
 use crate::collide::material::combine;
@@ -243,9 +243,13 @@ impl ContactSolver {
         let (c1, c2) = (&colliders[pair.0 as usize], &colliders[pair.1 as usize]);
         let (b1, b2) = (c1.body as usize, c2.body as usize);
         let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
-        let ball = |c: &Collider| c.shape.shape_type() == parry3d_f64::shape::ShapeType::Ball;
-        self.bodies[s1 as usize].round = s1 != 0 && ball(c1);
-        self.bodies[s2 as usize].round = s2 != 0 && ball(c2);
+        for (s, c) in [(s1, c1), (s2, c2)] {
+            if s != 0 {
+                let (surface, rounding) = surface_of(c, b);
+                self.bodies[s as usize].surface = surface;
+                self.bodies[s as usize].rounding = rounding;
+            }
+        }
         PairContext {
             s1,
             s2,
@@ -468,5 +472,21 @@ impl Shared<'_> {
             }
             patch.sliding = src.all_points().any(|tp| tp.data.sliding);
         }
+    }
+}
+
+/// How the contact points of collider `c` follow its body as it turns (see
+/// [`Gap`](super::solver_body::Gap)), and its rounding at the body's pose in `b`.
+fn surface_of(c: &Collider, b: &Bodies) -> (Surface, Rounding) {
+    use parry3d_f64::shape::TypedShape;
+    match c.shape.as_typed_shape() {
+        TypedShape::Ball(_) => (Surface::Ball, Rounding::default()),
+        TypedShape::Capsule(k) => (Surface::Rounded, Rounding { radius: k.radius, axis: Vec3::zeros() }),
+        TypedShape::Cylinder(k) => {
+            // parry's cylinders stand along their frame's y axis.
+            let axis = c.pose(b).rotation * nalgebra::Vector3::y();
+            (Surface::Rounded, Rounding { radius: k.radius, axis })
+        }
+        _ => (Surface::Material, Rounding::default()),
     }
 }

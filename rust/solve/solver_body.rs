@@ -25,9 +25,8 @@ pub struct SolverBody {
     pub dp: Vec3,
     /// Whether its velocities are written back.
     pub dynamic: bool,
-    /// A ball: its contact points stay put on its surface while it spins, so its
-    /// anchors move with its centre only.
-    pub round: bool,
+    /// How its contact points follow it as it turns (see [`Gap`]).
+    pub surface: Surface,
     /// Moved by the position pass since its pose was gathered.
     pub pushed: bool,
     /// Moved by more than round-off since the last refresh of its
@@ -43,6 +42,69 @@ pub struct SolverBody {
     /// Pose change at the last refresh of its constraints' arms.
     pub dp_ref: Vec3,
     pub dq_ref: Quat,
+    /// Its rounded surface, for [`Surface::Rounded`].
+    pub rounding: Rounding,
+}
+
+/// How the contact points of a body follow it as it turns within a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[repr(u8)]
+pub enum Surface {
+    /// As material points: a box's corner, a point on a flat face.
+    #[default]
+    Material,
+    /// Not at all: a ball touches under its centre however it spins.
+    Ball,
+    /// A capsule or a cylinder's side: see [`Rounding`].
+    Rounded,
+}
+
+/// A rounded surface: a capsule (a ball swept along a segment, `axis` zero)
+/// or a cylinder's side and rims (circles of `radius` about `axis`, world
+/// frame at the step start). Its contact point is the point of the surface
+/// nearest the other body, not a material point: rolling about its axis, a
+/// cylinder lying on the ground keeps touching under its axis. Followed as
+/// material points, the points of a cylinder rolling at 10 rad/s (dt 1/60)
+/// rose `r (1 − cos ωh)` a substep, and it sank 0.78 mm into the ground, 3.3 mm
+/// at 30 rad/s, and bounced off it at 0.1 m/s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Rounding {
+    pub radius: f64,
+    pub axis: Vec3,
+}
+
+/// Most points of a contact with a cylinder taken on its round surface: its
+/// side touches a face along a segment (two points), its rim at one point; a
+/// cap flat on a face gives more (material points of a flat face).
+const ROUND_POINTS: u32 = 2;
+
+/// Least `1 − (n·axis)²` for a cylinder's contact to be on its rim or side
+/// rather than flat on its cap (`n` within 84° of the axis).
+const ACROSS_AXIS: f64 = 0.01;
+
+impl Rounding {
+    /// How much farther apart (m) than its material points the rounded surface
+    /// of body `s` is along the normal of `c`, for `back` the normal turned
+    /// back by the body's rotation since the step start (`ΔRᵀ n`). The surface
+    /// point nearest the other body is its core point (on the capsule's segment,
+    /// or the centre of the cylinder's rim circle: material, at `anchor + r u`)
+    /// plus `r` across: along `n` for a capsule, `u` the normal's part across
+    /// the axis for a cylinder. 0 at the step start.
+    #[inline]
+    fn gap_change(&self, back: &Vec3, c: &Constraint) -> f64 {
+        let n = c.normal;
+        if self.axis == Vec3::zeros() {
+            return self.radius * (back.dot(&n) - 1.0);
+        }
+        let s = n.dot(&self.axis);
+        let across = 1.0 - s * s;
+        if c.len > ROUND_POINTS || across < ACROSS_AXIS {
+            return 0.0;
+        }
+        let u = (n - self.axis * s) / across.sqrt();
+        let t = back.dot(&self.axis);
+        self.radius * (back.dot(&u) - (1.0 - t * t).max(0.0).sqrt())
+    }
 }
 
 impl SolverBody {
@@ -76,7 +138,8 @@ impl Default for SolverBody {
             iso: Some(0.0),
             body: u32::MAX,
             dynamic: false,
-            round: false,
+            surface: Surface::Material,
+            rounding: Rounding::default(),
             dp_ref: Vec3::zeros(),
             dq_ref: Quat::identity(),
             moved: false,
@@ -195,18 +258,26 @@ pub struct Gap {
 
 impl Gap {
     /// Anchors turn with their body, as a box's corner does, except on a ball,
-    /// whose contact point stays under its centre however it spins.
+    /// whose contact point stays under its centre however it spins, and on a
+    /// rounded surface (see [`Rounding`]).
     #[inline(always)]
     pub fn new(bodies: &[SolverBody], c: &Constraint) -> Self {
         let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
         let back = |s: &SolverBody, fixed: bool| {
-            if fixed || s.round {
+            if fixed || s.surface == Surface::Ball {
                 c.normal
             } else {
                 quat::rotate(&s.dq.conjugate(), &c.normal)
             }
         };
-        Self { n1: back(a, c.s1 == 0), n2: back(b, c.s2 == 0), shift: c.normal.dot(&(b.dp - a.dp)) }
+        let (n1, n2) = (back(a, c.s1 == 0), back(b, c.s2 == 0));
+        let mut shift = c.normal.dot(&(b.dp - a.dp));
+        for (s, n) in [(a, &n1), (b, &n2)] {
+            if s.surface == Surface::Rounded {
+                shift += s.rounding.gap_change(n, c);
+            }
+        }
+        Self { n1, n2, shift }
     }
 
     /// Current separation of a point (m): its step-start separation plus how far

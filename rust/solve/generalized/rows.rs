@@ -116,7 +116,7 @@ impl ContactSolver {
         let (l1, l2) = (link(c.s1, c.b1), link(c.s2, c.b2));
         let turn = |s: u32, a: &Vec3| {
             let sb = &self.bodies[s as usize];
-            if sb.round {
+            if sb.surface == crate::solve::solver_body::Surface::Ball {
                 *a
             } else {
                 quat::rotate(&sb.dq, a)

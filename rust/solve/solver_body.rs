@@ -92,18 +92,38 @@ impl Rounding {
     /// the axis for a cylinder. 0 at the step start.
     #[inline]
     fn gap_change(&self, back: &Vec3, c: &Constraint) -> f64 {
-        let n = c.normal;
+        let Some(u) = self.across(&c.normal, c) else { return 0.0 };
+        let t = back.dot(&self.axis);
+        self.radius * (back.dot(&u) - (1.0 - t * t).max(0.0).sqrt())
+    }
+
+    /// The unit vector `u` across the axis toward the normal `n` of `c` (`n`
+    /// itself for a capsule), if `c` touches the rounded surface.
+    #[inline]
+    fn across(&self, n: &Vec3, c: &Constraint) -> Option<Vec3> {
         if self.axis == Vec3::zeros() {
-            return self.radius * (back.dot(&n) - 1.0);
+            return Some(*n);
         }
         let s = n.dot(&self.axis);
         let across = 1.0 - s * s;
-        if c.len > ROUND_POINTS || across < ACROSS_AXIS {
-            return 0.0;
-        }
-        let u = (n - self.axis * s) / across.sqrt();
-        let t = back.dot(&self.axis);
-        self.radius * (back.dot(&u) - (1.0 - t * t).max(0.0).sqrt())
+        (c.len <= ROUND_POINTS && across >= ACROSS_AXIS).then(|| (n - self.axis * s) / across.sqrt())
+    }
+
+    /// The arm, after the body turned by `dq` since the step start, to the
+    /// surface point nearest the other body of the contact at `anchor` (on
+    /// side `side`, 1 or 2, of `c`): its core point turned with the body, then
+    /// the radius across the turned axis. `None` where `c` does not touch the
+    /// rounded surface (a material point then).
+    pub fn turned_arm(&self, dq: &Quat, anchor: &Vec3, side: u8, c: &Constraint) -> Option<Vec3> {
+        let n = c.normal;
+        let u = self.across(&n, c)?;
+        // Body 2 lies along +n from the contact, body 1 along −n.
+        let sign = if side == 2 { 1.0 } else { -1.0 };
+        let core = quat::rotate(dq, &(anchor + u * (sign * self.radius)));
+        let axis = quat::rotate(dq, &self.axis);
+        let s = n.dot(&axis);
+        let turned = if axis == Vec3::zeros() { n } else { (n - axis * s).try_normalize(0.0).unwrap_or(u) };
+        Some(core - turned * (sign * self.radius))
     }
 }
 

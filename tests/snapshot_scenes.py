@@ -139,6 +139,30 @@ def tile_floor() -> rr.World:
     return scene.build(dt=1 / 60)
 
 
+def wheels() -> rr.World:
+    """A cart on four hinged cylinder wheels (an articulation) rolling over a
+    bump, and loose capsules and cylinders rolling and tumbling: contacts read
+    on rounded surfaces (`rust/solve/solver_body.rs`, `Rounding`)."""
+    scene = rr.Scene(gravity=(0, 0, -G))
+    scene.add_body(rr.Plane(), fixed=True)
+    scene.add_body(rr.Box((0.05, 1.0, 0.01)), fixed=True, position=(0.8, 0.0, 0.01))
+    lying = (np.sin(np.pi / 4), 0.0, 0.0, np.cos(np.pi / 4))
+    r = 0.1
+    chassis = scene.add_body(rr.Box((0.3, 0.15, 0.03)), density=300.0, position=(0.0, 0.0, r), linear_velocity=(1.5, 0, 0))
+    for x in (-0.25, 0.25):
+        for y in (-0.25, 0.25):
+            wheel = scene.add_body(rr.Cylinder(radius=r, half_height=0.03), density=500.0, position=(x, y, r),
+                                   orientation=lying, linear_velocity=(1.5, 0, 0), angular_velocity=(0, 15.0, 0))
+            scene.add_joint("hinge", chassis, wheel, anchor=(x, y, r), axis=(0.0, 1.0, 0.0))
+    rng = np.random.default_rng(7)
+    for k in range(6):
+        shape = rr.Capsule(radius=0.05, half_height=0.1) if k % 2 else rr.Cylinder(radius=0.05, half_height=0.1)
+        w = rng.normal(size=3) * 4.0
+        scene.add_body(shape, density=800.0, position=(0.3 * k - 0.8, 1.2, 0.05 + 0.2 * (k % 3)), orientation=lying,
+                       linear_velocity=(0.0, -1.0, 0.0), angular_velocity=(w[0] + 20.0, w[1], w[2]))
+    return scene.build(dt=1 / 60, sleep=False)
+
+
 SCENES: dict[str, Callable[[], rr.World]] = {
     "pile": pile,
     "pyramid": pyramid,
@@ -150,6 +174,7 @@ SCENES: dict[str, Callable[[], rr.World]] = {
     "meshes": meshes,
     "kicked_column": kicked_column,
     "tile_floor": tile_floor,
+    "wheels": wheels,
 }
 
 

@@ -93,6 +93,7 @@ BUILDERS: dict[str, Callable[[], rr.World]] = {
     "cloth": SCENES["cloth"],
     "kicked_column": SCENES["kicked_column"],
     "tile_floor": SCENES["tile_floor"],
+    "wheels": SCENES["wheels"],
     "ball_pit": ball_pit,
     "ball_pit_on_triangles": ball_pit_on_triangles,
     "box_heap": box_heap,

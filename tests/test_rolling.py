@@ -126,3 +126,41 @@ def test_an_articulated_cart_rolls_on_its_wheels_without_sinking_or_braking(whee
     assert R - low <= 2e-6, f"axles sank {1e3 * (R - low):.3f} mm"
     assert vz <= 1e-5
     assert abs(float(world.bodies.linear_velocity[chassis, 0]) - v) <= 1e-4 * v
+
+
+def floor(scene, kind):
+    """A fixed floor with its top at z = 0: a box, or a mesh of 200 triangles."""
+    if kind == "box":
+        scene.add_body(rr.Box((5.0, 5.0, 0.5)), fixed=True, position=(0.0, 0.0, -0.5))
+    else:
+        n = 10
+        xs = np.linspace(-5.0, 5.0, n + 1)
+        vertices = np.array([(x, y, 0.0) for x in xs for y in xs])
+        tris = []
+        for i in range(n):
+            for j in range(n):
+                a = i * (n + 1) + j
+                tris += [(a, a + n + 1, a + 1), (a + 1, a + n + 1, a + n + 2)]
+        scene.add_body(rr.TriMesh(vertices, np.array(tris)), fixed=True)
+
+
+@pytest.mark.parametrize("kind", ["box", "mesh"])
+@pytest.mark.parametrize("shape", SHAPES)
+def test_a_cylinder_or_capsule_rolling_on_a_box_or_a_mesh_does_not_sink(shape, kind):
+    # On a box the contact has a third point under the axis (a face's point
+    # for each corner it lacks); read as material points, the cylinder's sank
+    # 1.5 mm at 20 rad/s and bounced at 0.12 m/s, on the box and on the mesh.
+    # Bars: the rest depth (2 µm); over the mesh's seams speed and energy
+    # within 1e-4 (measured 5e-6 and 3e-6).
+    scene = rr.Scene(gravity=(0.0, 0.0, -G))
+    floor(scene, kind)
+    body = scene.add_body(SHAPES[shape](), density=1000.0, position=(0.03, 0.07, R), orientation=LYING,
+                          linear_velocity=(2.0, 0.0, 0.0), angular_velocity=(0.0, 20.0, 0.0))
+    world = scene.build(dt=DT, sleep=False)
+    e0, low = world.kinetic_energy(), R
+    for _ in range(120):
+        world.step(1)
+        low = min(low, float(world.bodies.position[body, 2]))
+    assert R - low <= 2e-6, f"sank {1e3 * (R - low):.3f} mm"
+    assert abs(world.kinetic_energy() / e0 - 1) <= 1e-4
+    assert abs(float(world.bodies.linear_velocity[body, 0]) - 2.0) <= 2e-4

@@ -73,13 +73,9 @@ pub struct Rounding {
     pub axis: Vec3,
 }
 
-/// Most points of a contact with a cylinder taken on its round surface: its
-/// side touches a face along a segment (two points), its rim at one point; a
-/// cap flat on a face gives more (material points of a flat face).
-const ROUND_POINTS: u32 = 2;
-
 /// Least `1 − (n·axis)²` for a cylinder's contact to be on its rim or side
-/// rather than flat on its cap (`n` within 84° of the axis).
+/// rather than flat on its cap (whose points are material points of a flat
+/// face): the normal more than 5.7° from the axis.
 const ACROSS_AXIS: f64 = 0.01;
 
 impl Rounding {
@@ -91,32 +87,32 @@ impl Rounding {
     /// plus `r` across: along `n` for a capsule, `u` the normal's part across
     /// the axis for a cylinder. 0 at the step start.
     #[inline]
-    fn gap_change(&self, back: &Vec3, c: &Constraint) -> f64 {
-        let Some(u) = self.across(&c.normal, c) else { return 0.0 };
+    fn gap_change(&self, back: &Vec3, n: &Vec3) -> f64 {
+        let Some(u) = self.across(n) else { return 0.0 };
         let t = back.dot(&self.axis);
         self.radius * (back.dot(&u) - (1.0 - t * t).max(0.0).sqrt())
     }
 
-    /// The unit vector `u` across the axis toward the normal `n` of `c` (`n`
-    /// itself for a capsule), if `c` touches the rounded surface.
+    /// The unit vector `u` across the axis toward the normal `n` (`n` itself
+    /// for a capsule), if a contact of that normal touches the rounded surface.
     #[inline]
-    fn across(&self, n: &Vec3, c: &Constraint) -> Option<Vec3> {
+    fn across(&self, n: &Vec3) -> Option<Vec3> {
         if self.axis == Vec3::zeros() {
             return Some(*n);
         }
         let s = n.dot(&self.axis);
         let across = 1.0 - s * s;
-        (c.len <= ROUND_POINTS && across >= ACROSS_AXIS).then(|| (n - self.axis * s) / across.sqrt())
+        (across >= ACROSS_AXIS).then(|| (n - self.axis * s) / across.sqrt())
     }
 
     /// The arm, after the body turned by `dq` since the step start, to the
     /// surface point nearest the other body of the contact at `anchor` (on
-    /// side `side`, 1 or 2, of `c`): its core point turned with the body, then
-    /// the radius across the turned axis. `None` where `c` does not touch the
-    /// rounded surface (a material point then).
-    pub fn turned_arm(&self, dq: &Quat, anchor: &Vec3, side: u8, c: &Constraint) -> Option<Vec3> {
-        let n = c.normal;
-        let u = self.across(&n, c)?;
+    /// side `side`, 1 or 2, of a contact of normal `n`): its core point turned
+    /// with the body, then the radius across the turned axis. `None` where the
+    /// contact is not on the rounded surface (a material point then).
+    pub fn turned_arm(&self, dq: &Quat, anchor: &Vec3, side: u8, n: &Vec3) -> Option<Vec3> {
+        let n = *n;
+        let u = self.across(&n)?;
         // Body 2 lies along +n from the contact, body 1 along −n.
         let sign = if side == 2 { 1.0 } else { -1.0 };
         let core = quat::rotate(dq, &(anchor + u * (sign * self.radius)));
@@ -294,7 +290,7 @@ impl Gap {
         let mut shift = c.normal.dot(&(b.dp - a.dp));
         for (s, n) in [(a, &n1), (b, &n2)] {
             if s.surface == Surface::Rounded {
-                shift += s.rounding.gap_change(n, c);
+                shift += s.rounding.gap_change(n, &c.normal);
             }
         }
         Self { n1, n2, shift }

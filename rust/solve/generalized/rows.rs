@@ -119,7 +119,7 @@ impl ContactSolver {
             let sb = &self.bodies[s as usize];
             match sb.surface {
                 Surface::Ball => *a,
-                Surface::Rounded => sb.rounding.turned_arm(&sb.dq, a, side, &c).unwrap_or_else(|| quat::rotate(&sb.dq, a)),
+                Surface::Rounded => sb.rounding.turned_arm(&sb.dq, a, side, &c.normal).unwrap_or_else(|| quat::rotate(&sb.dq, a)),
                 Surface::Material => quat::rotate(&sb.dq, a),
             }
         };

@@ -398,3 +398,47 @@ impl ContactSolver {
         sb.turn_inertia(b, i);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A body of `rounding` as side 2 of a contact of normal +z with the
+    /// fixed world, turned by `turn` (rotation vector, rad) since the step start.
+    fn gap(rounding: Rounding, turn: Vec3, anchor: Vec3) -> f64 {
+        let c = Constraint { s1: 0, s2: 1, normal: Vec3::z(), len: 1, ..Default::default() };
+        let body = SolverBody { dq: quat::exp(&turn), dynamic: true, surface: Surface::Rounded, rounding, ..Default::default() };
+        let bodies = [SolverBody::default(), body];
+        // Touching at the step start: separation 0.
+        let p = Point { anchor2: anchor, base_separation: -anchor.z, ..Default::default() };
+        Gap::new(&bodies, &c).separation(&p)
+    }
+
+    #[test]
+    fn a_cylinder_rolling_about_its_axis_keeps_its_gap() {
+        // Lying along y, touching under its axis at the end y = 0.2.
+        let r = Rounding { radius: 0.1, axis: Vec3::y() };
+        let anchor = Vec3::new(0.0, 0.2, -0.1);
+        for theta in [0.05, 0.5, 2.0] {
+            assert!(gap(r, Vec3::y() * theta, anchor).abs() <= 1e-15, "{theta}");
+        }
+        // Tilted about x, the rim at that end rises with its centre, 0.2 sin φ,
+        // and its lowest point a further r (1 − cos φ) as the rim leans.
+        let phi: f64 = 0.1;
+        let exact = 0.2 * phi.sin() + 0.1 * (1.0 - phi.cos());
+        assert!((gap(r, Vec3::x() * phi, anchor) - exact).abs() <= 1e-15);
+    }
+
+    #[test]
+    fn a_capsule_turning_about_its_contact_keeps_touching_under_its_core() {
+        // A capsule's point under a segment end: any turn about the segment's
+        // point keeps it a radius above the floor.
+        let r = Rounding { radius: 0.1, axis: Vec3::zeros() };
+        let anchor = Vec3::new(0.0, 0.2, -0.1);
+        let turn = Vec3::new(0.0, 0.7, 0.0);
+        assert!(gap(r, turn, anchor).abs() <= 1e-15);
+        // Material points would have risen r (1 − cos 0.7) = 23.5 mm.
+        let material = gap(Rounding::default(), turn, anchor);
+        assert!((material - 0.1 * (1.0 - 0.7f64.cos())).abs() <= 1e-15);
+    }
+}

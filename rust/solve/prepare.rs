@@ -245,7 +245,9 @@ impl ContactSolver {
         let (s1, s2) = (self.enter(b, b1), self.enter(b, b2));
         for (s, c) in [(s1, c1), (s2, c2)] {
             if s != 0 {
-                let (surface, rounding) = surface_of(c, b);
+                // At the step start's orientation (impacts build contacts later
+                // in the step, and the gap turns the axis by the change since).
+                let (surface, rounding) = surface_of(c, &self.q0[s as usize]);
                 self.bodies[s as usize].surface = surface;
                 self.bodies[s as usize].rounding = rounding;
             }
@@ -476,15 +478,16 @@ impl Shared<'_> {
 }
 
 /// How the contact points of collider `c` follow its body as it turns (see
-/// [`Gap`](super::solver_body::Gap)), and its rounding at the body's pose in `b`.
-fn surface_of(c: &Collider, b: &Bodies) -> (Surface, Rounding) {
+/// [`Gap`](super::solver_body::Gap)), and its rounding for the body's
+/// orientation `q`.
+fn surface_of(c: &Collider, q: &Quat) -> (Surface, Rounding) {
     use parry3d_f64::shape::TypedShape;
     match c.shape.as_typed_shape() {
         TypedShape::Ball(_) => (Surface::Ball, Rounding::default()),
         TypedShape::Capsule(k) => (Surface::Rounded, Rounding { radius: k.radius, axis: Vec3::zeros() }),
         TypedShape::Cylinder(k) => {
             // parry's cylinders stand along their frame's y axis.
-            let axis = c.pose(b).rotation * nalgebra::Vector3::y();
+            let axis = crate::math::quat::rotate(q, &(c.local.rotation * nalgebra::Vector3::y()));
             (Surface::Rounded, Rounding { radius: k.radius, axis })
         }
         _ => (Surface::Material, Rounding::default()),

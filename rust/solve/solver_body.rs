@@ -80,8 +80,8 @@ const ACROSS_AXIS: f64 = 0.01;
 
 impl Rounding {
     /// How much farther apart (m) than its material points the rounded surface
-    /// of body `s` is along the normal of `c`, for `back` the normal turned
-    /// back by the body's rotation since the step start (`ΔRᵀ n`). The surface
+    /// is along the normal `n`, for `back` the normal turned back by the
+    /// body's rotation since the step start (`ΔRᵀ n`). The surface
     /// point nearest the other body is its core point (on the capsule's segment,
     /// or the centre of the cylinder's rim circle: material, at `anchor + r u`)
     /// plus `r` across: along `n` for a capsule, `u` the normal's part across

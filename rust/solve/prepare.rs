@@ -485,11 +485,15 @@ fn surface_of(c: &Collider, q: &Quat) -> (Surface, Rounding) {
     match c.shape.as_typed_shape() {
         TypedShape::Ball(_) => (Surface::Ball, Rounding::default()),
         TypedShape::Capsule(k) => (Surface::Rounded, Rounding { radius: k.radius, axis: Vec3::zeros() }),
-        TypedShape::Cylinder(k) => {
-            // parry's cylinders stand along their frame's y axis.
-            let axis = crate::math::quat::rotate(q, &(c.local.rotation * nalgebra::Vector3::y()));
-            (Surface::Rounded, Rounding { radius: k.radius, axis })
-        }
+        // parry's cylinders and cones stand along their frame's y axis (a
+        // cone's apex is a corner: see `collide::corners`).
+        TypedShape::Cylinder(k) => (Surface::Rounded, Rounding { radius: k.radius, axis: axis_of(c, q) }),
+        TypedShape::Cone(k) => (Surface::Rounded, Rounding { radius: k.radius, axis: axis_of(c, q) }),
         _ => (Surface::Material, Rounding::default()),
     }
+}
+
+/// The world direction of collider `c`'s y axis for its body's orientation `q`.
+fn axis_of(c: &Collider, q: &Quat) -> Vec3 {
+    crate::math::quat::rotate(q, &(c.local.rotation * nalgebra::Vector3::y()))
 }

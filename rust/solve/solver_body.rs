@@ -55,13 +55,13 @@ pub enum Surface {
     Material,
     /// Not at all: a ball touches under its centre however it spins.
     Ball,
-    /// A capsule or a cylinder's side: see [`Rounding`].
+    /// A capsule, a cylinder's side and rims, a cone's rim: see [`Rounding`].
     Rounded,
 }
 
 /// A rounded surface: a capsule (a ball swept along a segment, `axis` zero)
-/// or a cylinder's side and rims (circles of `radius` about `axis`, world
-/// frame at the step start). Its contact point is the point of the surface
+/// or a cylinder's side and rims or a cone's rim (circles of `radius` about
+/// `axis`, world frame at the step start). Its contact point is the point of the surface
 /// nearest the other body, not a material point: rolling about its axis, a
 /// cylinder lying on the ground keeps touching under its axis. Followed as
 /// material points, the points of a cylinder rolling at 10 rad/s (dt 1/60)
@@ -270,6 +270,10 @@ pub struct Gap {
     n2: Vec3,
     /// `n·(Δp2 − Δp1)` (m).
     shift: f64,
+    /// How much farther apart each body's rounded surface is than its
+    /// material points (m; see [`Rounding`]), for points not at its corners
+    /// (a cone's apex is one, its rim round).
+    round: [f64; 2],
 }
 
 impl Gap {
@@ -287,20 +291,23 @@ impl Gap {
             }
         };
         let (n1, n2) = (back(a, c.s1 == 0), back(b, c.s2 == 0));
-        let mut shift = c.normal.dot(&(b.dp - a.dp));
-        for (s, n) in [(a, &n1), (b, &n2)] {
+        let round = |s: &SolverBody, n: &Vec3| {
             if s.surface == Surface::Rounded {
-                shift += s.rounding.gap_change(n, &c.normal);
+                s.rounding.gap_change(n, &c.normal)
+            } else {
+                0.0
             }
-        }
-        Self { n1, n2, shift }
+        };
+        Self { n1, n2, shift: c.normal.dot(&(b.dp - a.dp)), round: [round(a, &n1), round(b, &n2)] }
     }
 
     /// Current separation of a point (m): its step-start separation plus how far
     /// its anchors have moved apart along the normal since.
     #[inline(always)]
     pub fn separation(&self, p: &Point) -> f64 {
-        p.base_separation + self.shift + self.n2.dot(&p.anchor2) - self.n1.dot(&p.anchor1)
+        let material = p.base_separation + self.shift + self.n2.dot(&p.anchor2) - self.n1.dot(&p.anchor1);
+        let round = |side: u8| if p.corner == side { 0.0 } else { self.round[side as usize - 1] };
+        material + round(1) + round(2)
     }
 }
 

@@ -12,7 +12,7 @@
 use super::friction::Patch;
 use super::limit_surface::PatchShape;
 use super::soft::Softness;
-use super::solver_body::{Gap, Pair, SolverBody};
+use super::solver_body::{Gap, Pair, SolverBody, Surface};
 use crate::body::Bodies;
 use crate::collide::corners::Corners;
 use crate::collide::material::ContactMaterial;
@@ -415,25 +415,34 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
     let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
     let (dp1, dp2) = (b1.dp, b2.dp);
     let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
+    let rounded = |b: &SolverBody, p: &Point, side: u8| {
+        (b.surface == Surface::Rounded && p.corner != side).then(|| b.rounding.turned_arm(&b.dq, anchor(p, side), side, &normal, p.separation)).flatten()
+    };
     for p in points.iter_mut() {
-        // Both anchors start at one world point: x1 + a1 = x2 + a2.
-        match p.corner {
-            1 => {
-                p.r1 = quat::rotate(&b1.dq, &p.anchor1);
-                p.r2 = p.anchor2 + (dp1 + p.r1 - p.anchor1) - dp2;
-            }
-            2 => {
-                p.r2 = quat::rotate(&b2.dq, &p.anchor2);
-                p.r1 = p.anchor1 + (dp2 + p.r2 - p.anchor2) - dp1;
-            }
-            _ => {
-                p.r1 = p.anchor1 + shift - dp1;
-                p.r2 = p.anchor2 + shift - dp2;
-            }
-        }
+        // Both anchors start at one world point: x1 + a1 = x2 + a2. A corner
+        // turns with its body; a rounded surface's point goes where the surface
+        // is nearest the other body (a disk nutating on its rim: see
+        // `Rounding`); any other point follows the translations.
+        let turned1 = if p.corner == 1 { Some(quat::rotate(&b1.dq, &p.anchor1)) } else { rounded(b1, p, 1) };
+        let turned2 = if p.corner == 2 { Some(quat::rotate(&b2.dq, &p.anchor2)) } else { rounded(b2, p, 2) };
+        // A corner first, then body 2's rounded surface, then body 1's.
+        (p.r1, p.r2) = match (p.corner, turned1, turned2) {
+            (1, Some(r1), _) | (_, Some(r1), None) => (r1, p.anchor2 + (dp1 + r1 - p.anchor1) - dp2),
+            (_, _, Some(r2)) => (p.anchor1 + (dp2 + r2 - p.anchor2) - dp1, r2),
+            _ => (p.anchor1 + shift - dp1, p.anchor2 + shift - dp2),
+        };
         normal_mass(p, b1, b2, &normal);
     }
     refresh_patch_of(c, patch, points, bodies);
+}
+
+/// Point `p`'s anchor on side `side` (1 or 2).
+fn anchor(p: &Point, side: u8) -> &Vec3 {
+    if side == 1 {
+        &p.anchor1
+    } else {
+        &p.anchor2
+    }
 }
 
 /// The patch of constraint `c` at its points' current arms, keeping its

@@ -106,20 +106,24 @@ impl Rounding {
     }
 
     /// The arm, after the body turned by `dq` since the step start, to the
-    /// surface point nearest the other body of the contact at `anchor` (on
-    /// side `side`, 1 or 2, of a contact of normal `n`): its core point turned
-    /// with the body, then the radius across the turned axis. `None` where the
-    /// contact is not on the rounded surface (a material point then).
-    pub fn turned_arm(&self, dq: &Quat, anchor: &Vec3, side: u8, n: &Vec3) -> Option<Vec3> {
+    /// contact at `anchor` (on side `side`, 1 or 2, of a contact of normal `n`
+    /// whose surfaces were `separation` apart, the anchor midway) moved to
+    /// where the surface is nearest the other body: its core point turned with
+    /// the body, then the radius across the turned axis and the half gap back.
+    /// `None` where the contact is not on the rounded surface (a material
+    /// point then).
+    pub fn turned_arm(&self, dq: &Quat, anchor: &Vec3, side: u8, n: &Vec3, separation: f64) -> Option<Vec3> {
         let n = *n;
         let u = self.across(&n)?;
-        // Body 2 lies along +n from the contact, body 1 along −n.
+        // Body 2 lies along +n from the contact, body 1 along −n; its surface
+        // is half the separation from the anchor, its core a radius further.
         let sign = if side == 2 { 1.0 } else { -1.0 };
-        let core = quat::rotate(dq, &(anchor + u * (sign * self.radius)));
+        let to_surface = n * (sign * 0.5 * separation);
+        let core = quat::rotate(dq, &(anchor + to_surface + u * (sign * self.radius)));
         let axis = quat::rotate(dq, &self.axis);
         let s = n.dot(&axis);
         let turned = if axis == Vec3::zeros() { n } else { (n - axis * s).try_normalize(0.0).unwrap_or(u) };
-        Some(core - turned * (sign * self.radius))
+        Some(core - turned * (sign * self.radius) - to_surface)
     }
 }
 

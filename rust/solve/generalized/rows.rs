@@ -115,12 +115,12 @@ impl ContactSolver {
         let (x1, x2) = (x(c.s1), x(c.s2));
         let link = |s: u32, b: u32| s != 0 && self.gen.link(b).is_some();
         let (l1, l2) = (link(c.s1, c.b1), link(c.s2, c.b2));
-        let turn = |s: u32, a: &Vec3, side: u8, corner: u8| {
+        let turn = |s: u32, a: &Vec3, side: u8, p: &crate::solve::contact::Point| {
             let sb = &self.bodies[s as usize];
             match sb.surface {
                 Surface::Ball => *a,
-                Surface::Rounded if corner != side => {
-                    sb.rounding.turned_arm(&sb.dq, a, side, &c.normal).unwrap_or_else(|| quat::rotate(&sb.dq, a))
+                Surface::Rounded if p.corner != side => {
+                    sb.rounding.turned_arm(&sb.dq, a, side, &c.normal, p.separation).unwrap_or_else(|| quat::rotate(&sb.dq, a))
                 }
                 _ => quat::rotate(&sb.dq, a),
             }
@@ -128,7 +128,7 @@ impl ContactSolver {
         let (a1, a2) = (self.bodies[c.s1 as usize], self.bodies[c.s2 as usize]);
         for pi in c.start as usize..(c.start + c.len) as usize {
             let p = &self.points[pi];
-            let (m1, m2) = (x1 + turn(c.s1, &p.anchor1, 1, p.corner), x2 + turn(c.s2, &p.anchor2, 2, p.corner));
+            let (m1, m2) = (x1 + turn(c.s1, &p.anchor1, 1, p), x2 + turn(c.s2, &p.anchor2, 2, p));
             let point = match (l1, l2) {
                 (true, true) => (m1 + m2) * 0.5,
                 (true, false) => m1,

@@ -195,7 +195,7 @@ def test_a_cone_spinning_on_its_side_keeps_its_rim_on_the_ground(spin):
 
 @pytest.mark.xfail(strict=True, reason=(
     "a disk spinning fast on a tilted rim (Euler's disk) still sinks: at 30 rad/s and 60 Hz its "
-    "rim is 1.42 mm deep after 0.1 s tilted 57° and 0.55 mm tilted 17° (8.2 and 7.1 mm read as "
+    "rim is 1.42 mm deep after 0.1 s tilted 57° and 0.55 mm tilted 17° (7.1 and 8.2 mm read as "
     "material points; 3.3 and 2.0 mm with the gap alone rounded). The nearest rim point moves "
     "around the rim as the disk nutates within a step; the arm follows it at each refresh, the "
     "gap is exact, but the contact's impulses act over the substep at the point of its start."))

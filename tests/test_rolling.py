@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 
 import rigidrs as rr
+from test_mesh_floor_friction import floor as mesh_floor
 
 G = 9.81
 R = 0.1
@@ -133,15 +134,7 @@ def floor(scene, kind):
     if kind == "box":
         scene.add_body(rr.Box((5.0, 5.0, 0.5)), fixed=True, position=(0.0, 0.0, -0.5))
     else:
-        n = 10
-        xs = np.linspace(-5.0, 5.0, n + 1)
-        vertices = np.array([(x, y, 0.0) for x in xs for y in xs])
-        tris = []
-        for i in range(n):
-            for j in range(n):
-                a = i * (n + 1) + j
-                tris += [(a, a + n + 1, a + 1), (a + 1, a + n + 1, a + n + 2)]
-        scene.add_body(rr.TriMesh(vertices, np.array(tris)), fixed=True)
+        scene.add_body(mesh_floor(10), fixed=True)
 
 
 @pytest.mark.parametrize("kind", ["box", "mesh"])

@@ -12,7 +12,7 @@
 use super::friction::Patch;
 use super::limit_surface::PatchShape;
 use super::soft::Softness;
-use super::solver_body::{Gap, Pair, SolverBody, Surface};
+use super::solver_body::{Gap, Pair, SolverBody};
 use crate::body::Bodies;
 use crate::collide::corners::Corners;
 use crate::collide::material::ContactMaterial;
@@ -415,16 +415,13 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
     let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
     let (dp1, dp2) = (b1.dp, b2.dp);
     let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
-    let rounded = |b: &SolverBody, p: &Point, side: u8| {
-        (b.surface == Surface::Rounded && p.corner != side).then(|| b.rounding.turned_arm(&b.dq, anchor(p, side), side, &normal, p.separation)).flatten()
-    };
     for p in points.iter_mut() {
         // Both anchors start at one world point: x1 + a1 = x2 + a2. A corner
         // turns with its body; a rounded surface's point goes where the surface
         // is nearest the other body (a disk nutating on its rim: see
         // `Rounding`); any other point follows the translations.
-        let turned1 = if p.corner == 1 { Some(quat::rotate(&b1.dq, &p.anchor1)) } else { rounded(b1, p, 1) };
-        let turned2 = if p.corner == 2 { Some(quat::rotate(&b2.dq, &p.anchor2)) } else { rounded(b2, p, 2) };
+        let turned1 = if p.corner == 1 { Some(quat::rotate(&b1.dq, &p.anchor1)) } else { b1.rounded_arm(p, 1, &normal) };
+        let turned2 = if p.corner == 2 { Some(quat::rotate(&b2.dq, &p.anchor2)) } else { b2.rounded_arm(p, 2, &normal) };
         // A corner first, then body 2's rounded surface, then body 1's.
         (p.r1, p.r2) = match (p.corner, turned1, turned2) {
             (1, Some(r1), _) | (_, Some(r1), None) => (r1, p.anchor2 + (dp1 + r1 - p.anchor1) - dp2),
@@ -434,15 +431,6 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
         normal_mass(p, b1, b2, &normal);
     }
     refresh_patch_of(c, patch, points, bodies);
-}
-
-/// Point `p`'s anchor on side `side` (1 or 2).
-fn anchor(p: &Point, side: u8) -> &Vec3 {
-    if side == 1 {
-        &p.anchor1
-    } else {
-        &p.anchor2
-    }
 }
 
 /// The patch of constraint `c` at its points' current arms, keeping its

@@ -128,6 +128,18 @@ impl Rounding {
 }
 
 impl SolverBody {
+    /// The arm of point `p` on side `side` (1 or 2) of a contact of normal
+    /// `n` to where this body's rounded surface is nearest the other body
+    /// ([`Rounding::turned_arm`]); `None` for any other surface, and for a
+    /// corner of this body (a material point).
+    pub fn rounded_arm(&self, p: &Point, side: u8, n: &Vec3) -> Option<Vec3> {
+        if self.surface != Surface::Rounded || p.corner == side {
+            return None;
+        }
+        let anchor = if side == 1 { &p.anchor1 } else { &p.anchor2 };
+        self.rounding.turned_arm(&self.dq, anchor, side, n, p.separation)
+    }
+
     /// `I⁻¹ v` (world frame).
     #[inline(always)]
     pub fn inv_i_mul(&self, v: &Vec3) -> Vec3 {

@@ -117,13 +117,10 @@ impl ContactSolver {
         let (l1, l2) = (link(c.s1, c.b1), link(c.s2, c.b2));
         let turn = |s: u32, a: &Vec3, side: u8, p: &crate::solve::contact::Point| {
             let sb = &self.bodies[s as usize];
-            match sb.surface {
-                Surface::Ball => *a,
-                Surface::Rounded if p.corner != side => {
-                    sb.rounding.turned_arm(&sb.dq, a, side, &c.normal, p.separation).unwrap_or_else(|| quat::rotate(&sb.dq, a))
-                }
-                _ => quat::rotate(&sb.dq, a),
+            if sb.surface == Surface::Ball {
+                return *a;
             }
+            sb.rounded_arm(p, side, &c.normal).unwrap_or_else(|| quat::rotate(&sb.dq, a))
         };
         let (a1, a2) = (self.bodies[c.s1 as usize], self.bodies[c.s2 as usize]);
         for pi in c.start as usize..(c.start + c.len) as usize {

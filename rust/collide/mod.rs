@@ -14,6 +14,7 @@ pub mod narrow_phase;
 mod passing;
 pub mod sweep_and_prune;
 pub mod plane_hull;
+mod touching_axial;
 mod touching_polyhedra;
 
 pub use collider::{Collider, Filter};

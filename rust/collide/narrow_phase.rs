@@ -365,7 +365,9 @@ fn touches(state: &PairState) -> bool {
 /// points carry their warm-start data, or empty): a half-space and a hull by
 /// [`super::plane_hull`], the rest by parry, its manifolds of polyhedra
 /// touching exactly repaired ([`super::touching_polyhedra`]) and the corners
-/// it leaves out of faces of more than four added ([`super::face_points`]).
+/// it leaves out of faces of more than four added ([`super::face_points`]),
+/// those of cylinders and cones touching exactly computed a hair apart
+/// ([`super::touching_axial`]).
 /// Used by the narrow phase and by the impacts' contacts at their time of
 /// impact, where the bodies touch exactly.
 pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, prediction: f64, (manifolds, workspace): (&mut Vec<Manifold>, &mut Option<ContactManifoldsWorkspace>)) {
@@ -379,6 +381,9 @@ pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, predic
     let old = if mesh { take_points(manifolds) } else { Vec::new() };
     // Unsupported pairs are rejected when the world is built; none reach here.
     let _ = DefaultQueryDispatcher.contact_manifolds(pos12, s1, s2, prediction, manifolds, workspace);
+    if super::touching_axial::applies(s1, s2) {
+        super::touching_axial::repair(manifolds, s1, s2, pos12, prediction, workspace);
+    }
     if mesh {
         rematch(manifolds, &old);
     }

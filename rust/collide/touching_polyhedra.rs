@@ -149,7 +149,7 @@ pub(super) fn face_normals(s: &dyn Shape) -> Vec<Unit<Vector3<f64>>> {
 /// Manifold `m` built again on normal `n1` (frame 1) by clipping the two
 /// shapes' support features, carrying the warm-start data of points that
 /// match.
-fn rebuild(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>) {
+pub(super) fn rebuild(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>) {
     let (Some((f1, _)), Some((f2, _))) = (s1.as_polygonal_feature_map(), s2.as_polygonal_feature_map()) else {
         return;
     };

@@ -381,8 +381,8 @@ pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, predic
     let old = if mesh { take_points(manifolds) } else { Vec::new() };
     // Unsupported pairs are rejected when the world is built; none reach here.
     let _ = DefaultQueryDispatcher.contact_manifolds(pos12, s1, s2, prediction, manifolds, workspace);
-    if super::touching_axial::applies(s1, s2) {
-        super::touching_axial::repair(manifolds, s1, s2, pos12, prediction, workspace);
+    if super::touching_axial::may_apply(s1, s2) {
+        super::touching_axial::repair(manifolds, s1, s2, pos12, prediction);
     }
     if mesh {
         rematch(manifolds, &old);

@@ -8,8 +8,9 @@
 //! normal tilted 63°, and tipped at 0.7 rad/s.
 //!
 //! A cylinder's side and a cone's are curved, so the polyhedra's test over
-//! face normals does not cover them. Instead, where the GJK point of such a
-//! manifold is within [`TOUCH`] of touching, the manifold is computed again
+//! face normals does not cover them. Instead, where a point of such a
+//! manifold (or of a compound's such parts: a table on round legs set on a
+//! box slid 14 mm) is within [`TOUCH`] of touching, the manifold is computed again
 //! with shape 2 moved away from shape 1 by [`SHIFT`] along the line between
 //! their centres, where GJK's distance is well above round-off and its normal
 //! that of the features that touch, and its points are brought back: each
@@ -21,11 +22,11 @@
 //! the other on it, as two polyhedra's are.
 
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
-use parry3d_f64::query::{ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d_f64::shape::Shape;
 
-use super::narrow_phase::{Manifold, Tracked};
-use super::touching_polyhedra::{face_normals, rebuild};
+use super::narrow_phase::Manifold;
+use super::touching_polyhedra::{face_normals, part, rebuild};
 
 /// GJK distances (m) within this of zero are touching to round-off (as in
 /// [`super::touching_polyhedra`]).
@@ -39,42 +40,71 @@ const SNAP: f64 = 1e-6;
 /// (1e-16 of the distances), far below anything a contact resolves.
 const SHIFT: f64 = 1e-6;
 
-/// Whether the pair is one this module checks: a cylinder or a cone with a
-/// box, a hull, a cylinder or a cone (balls and capsules meet others at a
-/// distance of their radius from their core, never at GJK's zero).
-pub fn applies(s1: &dyn Shape, s2: &dyn Shape) -> bool {
+/// Whether two shapes (or parts of compounds) are a pair this module checks:
+/// a cylinder or a cone with a box, a hull, a cylinder or a cone (balls and
+/// capsules meet others at a distance of their radius from their core, never
+/// at GJK's zero).
+fn applies(s1: &dyn Shape, s2: &dyn Shape) -> bool {
     let axial = |s: &dyn Shape| s.as_cylinder().is_some() || s.as_cone().is_some();
     let solid = |s: &dyn Shape| axial(s) || s.as_cuboid().is_some() || s.as_convex_polyhedron().is_some();
     (axial(s1) || axial(s2)) && solid(s1) && solid(s2)
 }
 
-/// Computes the manifolds of the pair again, shape 2 moved apart (see the
-/// module docs), if one of them was found at GJK's distance zero.
-pub fn repair(manifolds: &mut Vec<Manifold>, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, prediction: f64, workspace: &mut Option<ContactManifoldsWorkspace>) {
-    if !manifolds.iter().any(touching) {
-        return;
+/// Whether some manifold of the pair may be one this module checks (a
+/// compound's parts may be cylinders: a table on four round legs).
+pub fn may_apply(s1: &dyn Shape, s2: &dyn Shape) -> bool {
+    let axial = |s: &dyn Shape| s.as_cylinder().is_some() || s.as_cone().is_some() || s.as_compound().is_some();
+    let solid = |s: &dyn Shape| axial(s) || s.as_cuboid().is_some() || s.as_convex_polyhedron().is_some();
+    (axial(s1) || axial(s2)) && solid(s1) && solid(s2)
+}
+
+/// Computes again, apart (see the module docs), each manifold of the pair
+/// (`pos12`: shape 2 in shape 1's frame) between a cylinder or a cone and a
+/// solid found touching.
+pub fn repair(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, prediction: f64) {
+    for m in manifolds.iter_mut() {
+        let (p1, p2) = (part(s1, m.subshape1), part(s2, m.subshape2));
+        if !applies(p1, p2) || !touching(m) {
+            continue;
+        }
+        // A compound's manifold is in its parts' frames.
+        let at = |p: Option<Isometry3<f64>>| p.unwrap_or_else(Isometry3::identity);
+        let pos = at(m.subshape_pos1).inv_mul(&(pos12 * at(m.subshape_pos2)));
+        recompute(m, p1, p2, &pos, prediction);
     }
+}
+
+/// Manifold `m` of the convex shapes `s1`, `s2` (`pos12`) computed with shape
+/// 2 moved [`SHIFT`] apart along the line between their centres, brought back,
+/// its normal taken exactly where it is a flat face's. Afresh: parry keeps a
+/// manifold whose pose moved less than 1 µm and 1°, and starts GJK from its
+/// normal.
+fn recompute(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, prediction: f64) {
     let Some(u) = pos12.translation.vector.try_normalize(0.0) else { return };
     let shifted = Translation3::from(u * SHIFT) * pos12;
-    // Cleared: parry keeps a manifold whose pose moved less than 1 µm and
-    // 1°, and starts GJK from its normal.
-    let old: Vec<Vec<Tracked>> = manifolds.iter_mut().map(|m| std::mem::take(&mut m.points)).collect();
-    manifolds.clear();
-    if DefaultQueryDispatcher.contact_manifolds(&shifted, s1, s2, prediction + SHIFT, manifolds, workspace).is_err() {
+    let (mut fresh, mut ws): (Vec<Manifold>, _) = (Vec::new(), None);
+    if DefaultQueryDispatcher.contact_manifolds(&shifted, s1, s2, prediction + SHIFT, &mut fresh, &mut ws).is_err() {
         return;
     }
-    for (k, m) in manifolds.iter_mut().enumerate() {
-        if let Some(points) = old.get(k) {
-            m.match_contacts(points);
-        }
-        let back = SHIFT * u.dot(&m.local_n1);
-        for p in &mut m.points {
-            p.dist -= back;
-        }
-        if let Some(face) = flat_normal_near(s1, s2, pos12, &m.local_n1) {
-            rebuild(m, s1, s2, pos12, &face);
-        }
+    let Some(mut f) = fresh.pop() else { return };
+    f.match_contacts(&m.points);
+    let back = SHIFT * u.dot(&f.local_n1);
+    for p in &mut f.points {
+        p.dist -= back;
     }
+    if let Some(face) = flat_normal_near(s1, s2, pos12, &f.local_n1) {
+        rebuild(&mut f, s1, s2, pos12, &face);
+    }
+    m.points = f.points;
+    m.local_n1 = f.local_n1;
+    m.local_n2 = f.local_n2;
+}
+
+/// Whether some point of `m` is within [`TOUCH`] (not only the GJK point:
+/// a can set on the centre of a round table got no GJK point, and its
+/// normal was tilted 5.4° toward the table's rim).
+fn touching(m: &Manifold) -> bool {
+    m.points.iter().any(|p| p.dist.abs() <= TOUCH)
 }
 
 /// The flat normal (a cap's, a face's; frame 1, from 1 toward 2) of either
@@ -100,13 +130,6 @@ fn flat_normals(s: &dyn Shape) -> Vec<Unit<Vector3<f64>>> {
     }
 }
 
-/// Whether some point of `m` is within [`TOUCH`] (not only the GJK point:
-/// a can set on the centre of a round table got no GJK point, and its
-/// normal was tilted 5.4° toward the table's rim).
-fn touching(m: &Manifold) -> bool {
-    m.points.iter().any(|p| p.dist.abs() <= TOUCH)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -124,7 +147,7 @@ mod tests {
         let pos12 = p1.inv_mul(&p2);
         let (mut m, mut ws) = (Vec::new(), None);
         DefaultQueryDispatcher.contact_manifolds(&pos12, s1, s2, 0.01, &mut m, &mut ws).unwrap();
-        repair(&mut m, s1, s2, &pos12, 0.01, &mut ws);
+        repair(&mut m, s1, s2, &pos12, 0.01);
         m
     }
 

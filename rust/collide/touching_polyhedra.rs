@@ -97,7 +97,7 @@ fn touching(m: &Manifold, p1: &dyn Shape, p2: &dyn Shape, boxes: bool) -> bool {
 }
 
 /// Part `index` of a compound, or the shape itself.
-fn part(s: &dyn Shape, index: u32) -> &dyn Shape {
+pub(super) fn part(s: &dyn Shape, index: u32) -> &dyn Shape {
     match s.as_compound().and_then(|c| c.shapes().get(index as usize)) {
         Some((_, p)) => p.as_ref(),
         None => s,

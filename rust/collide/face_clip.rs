@@ -28,9 +28,44 @@ struct Corner {
 /// `f2` (frame 2; `pos12` takes it to frame 1) along normal `n1`. False (and
 /// `m` untouched) unless both are faces.
 pub fn faces(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
-    if f1.num_vertices < 3 || f2.num_vertices < 3 {
-        return false;
+    f1.num_vertices >= 3 && f2.num_vertices >= 3 && clip_on(m, pos12, n1, f1, f2)
+}
+
+/// Replaces the points of `m` by those of an edge lying on a face, either way
+/// round (`f1` frame 1, `f2` frame 2, normal `n1` from 1 to 2): the edge
+/// clipped by the face's side planes, its ends on them kept. A can's cap
+/// standing on a log touches along the log's top line, which runs through
+/// two corners of parry's polygon of the cap: clipped without a tolerance,
+/// one of them came and went with round-off, and the can tipped at 3 rad/s.
+/// False (and `m` untouched) unless one is an edge and the other a face.
+pub fn edge_and_face(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
+    match (f1.num_vertices, f2.num_vertices) {
+        (n, 2) if n >= 3 => clip_on(m, pos12, n1, f1, f2),
+        (2, n) if n >= 3 => {
+            let mut seen = Manifold::new();
+            seen.points = m.points.iter().map(swapped).collect();
+            let n2 = Unit::new_unchecked(pos12.inverse_transform_vector(&-n1.into_inner()));
+            if !clip_on(&mut seen, &pos12.inverse(), &n2, f2, f1) {
+                return false;
+            }
+            m.points = seen.points.iter().map(swapped).collect();
+            true
+        }
+        _ => false,
     }
+}
+
+/// A point seen from the other shape.
+fn swapped(p: &Tracked) -> Tracked {
+    let mut q = *p;
+    std::mem::swap(&mut q.local_p1, &mut q.local_p2);
+    std::mem::swap(&mut q.fid1, &mut q.fid2);
+    q
+}
+
+/// The incident feature `f2` (a face or an edge) clipped by the side planes
+/// of the reference face `f1` (see [`faces`]).
+fn clip_on(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
     let reference = &f1.vertices[..f1.num_vertices];
     let size = reference.iter().map(|v| (v - reference[0]).norm()).fold(0.0, f64::max);
     let tol = EDGE * size.max(f64::MIN_POSITIVE);

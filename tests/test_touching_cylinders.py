@@ -115,6 +115,30 @@ def test_a_body_set_exactly_on_a_log_stays_put(top: str, x: float) -> None:
     assert moved < 1e-5 and spin < 1e-4, f"moved {moved:.3g} m, spun up to {spin:.3g} rad/s"
 
 
+@pytest.mark.parametrize("x", [0.0, 0.2, 0.337])
+@pytest.mark.parametrize("floor", ["box", "round"])
+def test_a_can_laid_exactly_on_its_side_stays_put(floor: str, x: float) -> None:
+    # A can lying on a slab touches along a line of its side (at e353758, 0.337 m
+    # off centre: 2.2 mm, 0.29 rad/s). The bars are the log's, for the same
+    # line contact.
+    scene = rr.Scene(gravity=(0.0, 0.0, -G))
+    scene.add_body(rr.Plane(), fixed=True)
+    slab = rr.Box((1.0, 1.0, H)) if floor == "box" else rr.Cylinder(radius=R_TABLE, half_height=H)
+    scene.add_body(slab, fixed=True, position=(0.0, 0.0, H))
+    along_y = (np.sin(np.pi / 4), 0.0, 0.0, np.cos(np.pi / 4))
+    body = scene.add_body(rr.Cylinder(radius=0.05, half_height=0.1), density=1000.0, position=(x, 0.0, 2 * H + 0.05),
+                          orientation=along_y)
+    world = scene.build(dt=DT, sleep=False)
+    start = world.bodies.position[body].copy()
+    world.step(1)
+    spin = 0.0
+    for _ in range(59):
+        world.step(1)
+        spin = max(spin, float(np.linalg.norm(world.bodies.angular_velocity[body])))
+    moved = float(np.linalg.norm(world.bodies.position[body] - start))
+    assert moved < 1e-5 and spin < 1e-4, f"moved {moved:.3g} m, spun up to {spin:.3g} rad/s"
+
+
 def can_tower(n: int, turn: float) -> tuple[rr.World, list[int]]:
     scene = rr.Scene(gravity=(0.0, 0.0, -G))
     scene.add_body(rr.Plane(), fixed=True)

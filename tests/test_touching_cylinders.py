@@ -45,6 +45,18 @@ TOPS = {
 }
 
 
+def held(world: rr.World, body: int, steps: int, settle: int = 0) -> tuple[float, float]:
+    """How far `body` moved over `steps` steps (m), and its fastest spin after
+    the first `settle` steps (rad/s)."""
+    start = world.bodies.position[body].copy()
+    world.step(settle)
+    spin = 0.0
+    for _ in range(steps - settle):
+        world.step(1)
+        spin = max(spin, float(np.linalg.norm(world.bodies.angular_velocity[body])))
+    return float(np.linalg.norm(world.bodies.position[body] - start)), spin
+
+
 def set_on_table(top: str, x: float) -> tuple[rr.World, int]:
     scene = rr.Scene(gravity=(0.0, 0.0, -G))
     scene.add_body(rr.Plane(), fixed=True)
@@ -56,13 +68,7 @@ def set_on_table(top: str, x: float) -> tuple[rr.World, int]:
 @pytest.mark.parametrize("x", [0.0, 0.337, 0.5, 0.81])
 @pytest.mark.parametrize("top", sorted(TOPS))
 def test_a_body_set_exactly_on_a_round_table_stays_put(top: str, x: float) -> None:
-    world, body = set_on_table(top, x)
-    start = world.bodies.position[body].copy()
-    spin = 0.0
-    for _ in range(60):
-        world.step(1)
-        spin = max(spin, float(np.linalg.norm(world.bodies.angular_velocity[body])))
-    moved = float(np.linalg.norm(world.bodies.position[body] - start))
+    moved, spin = held(*set_on_table(top, x), steps=60)
     assert moved < 1e-5, f"moved {moved:.3g} m"
     assert spin < 1e-6, f"spun up to {spin:.3g} rad/s"
 
@@ -76,13 +82,7 @@ def test_a_table_on_round_legs_set_exactly_on_a_floor_stays_put(floor: str) -> N
     legs = [(rr.Cylinder(radius=0.03, half_height=0.2), (sx * 0.3, sy * 0.3, 0.0)) for sx in (-1, 1) for sy in (-1, 1)]
     table = rr.Compound(legs + [(rr.Box((0.4, 0.4, 0.02)), (0.0, 0.0, 0.22))])
     body = scene.add_body(table, density=500.0, position=(0.0, 0.0, 2 * H + 0.2))
-    world = scene.build(dt=DT, sleep=False)
-    start = world.bodies.position[body].copy()
-    spin = 0.0
-    for _ in range(120):
-        world.step(1)
-        spin = max(spin, float(np.linalg.norm(world.bodies.angular_velocity[body])))
-    moved = float(np.linalg.norm(world.bodies.position[body] - start))
+    moved, spin = held(scene.build(dt=DT, sleep=False), body, steps=120)
     assert moved < 1e-5 and spin < 1e-6, f"moved {moved:.3g} m, spun up to {spin:.3g} rad/s"
 
 
@@ -104,14 +104,7 @@ def test_a_body_set_exactly_on_a_log_stays_put(top: str, x: float) -> None:
     # warm start) leaves it rocking at under 5e-4 rad/s on its line of
     # contact, a rocking that dies out: after it, 1e-4 rad/s is three orders
     # below the failures' 0.2–2.4 rad/s.
-    world, body = set_on_log(top, x)
-    start = world.bodies.position[body].copy()
-    world.step(1)
-    spin = 0.0
-    for _ in range(59):
-        world.step(1)
-        spin = max(spin, float(np.linalg.norm(world.bodies.angular_velocity[body])))
-    moved = float(np.linalg.norm(world.bodies.position[body] - start))
+    moved, spin = held(*set_on_log(top, x), steps=60, settle=1)
     assert moved < 1e-5 and spin < 1e-4, f"moved {moved:.3g} m, spun up to {spin:.3g} rad/s"
 
 
@@ -128,14 +121,7 @@ def test_a_can_laid_exactly_on_its_side_stays_put(floor: str, x: float) -> None:
     along_y = (np.sin(np.pi / 4), 0.0, 0.0, np.cos(np.pi / 4))
     body = scene.add_body(rr.Cylinder(radius=0.05, half_height=0.1), density=1000.0, position=(x, 0.0, 2 * H + 0.05),
                           orientation=along_y)
-    world = scene.build(dt=DT, sleep=False)
-    start = world.bodies.position[body].copy()
-    world.step(1)
-    spin = 0.0
-    for _ in range(59):
-        world.step(1)
-        spin = max(spin, float(np.linalg.norm(world.bodies.angular_velocity[body])))
-    moved = float(np.linalg.norm(world.bodies.position[body] - start))
+    moved, spin = held(scene.build(dt=DT, sleep=False), body, steps=60, settle=1)
     assert moved < 1e-5 and spin < 1e-4, f"moved {moved:.3g} m, spun up to {spin:.3g} rad/s"
 
 

@@ -23,9 +23,8 @@
 
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
 use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
-use parry3d_f64::shape::{PolygonalFeature, Shape};
+use parry3d_f64::shape::Shape;
 
-use super::face_clip;
 use super::narrow_phase::Manifold;
 use super::touching_polyhedra::{face_normals, part, rebuild};
 
@@ -94,7 +93,7 @@ fn recompute(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3
         p.dist -= back;
     }
     if let Some(face) = flat_normal_near(s1, s2, pos12, &f.local_n1) {
-        on_face(&mut f, s1, s2, pos12, &face);
+        rebuild(&mut f, s1, s2, pos12, &face, true);
     }
     m.points = f.points;
     m.local_n1 = f.local_n1;
@@ -106,26 +105,6 @@ fn recompute(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3
 /// normal was tilted 5.4° toward the table's rim).
 fn touching(m: &Manifold) -> bool {
     m.points.iter().any(|p| p.dist.abs() <= TOUCH)
-}
-
-/// Manifold `m` built again on the flat normal `n1` (frame 1): two faces
-/// clipped one against the other, or an edge against a face, their corners on
-/// the sides kept (see [`super::face_clip`]); anything else as the
-/// polyhedra's ([`rebuild`]).
-fn on_face(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>) {
-    let (Some((f1, _)), Some((f2, _))) = (s1.as_polygonal_feature_map(), s2.as_polygonal_feature_map()) else {
-        return;
-    };
-    let n2 = Unit::new_unchecked(pos12.inverse_transform_vector(&-n1.into_inner()));
-    let (mut feature1, mut feature2) = (PolygonalFeature::default(), PolygonalFeature::default());
-    f1.local_support_feature(n1, &mut feature1);
-    f2.local_support_feature(&n2, &mut feature2);
-    if face_clip::faces(m, pos12, n1, &feature1, &feature2) || face_clip::edge_and_face(m, pos12, n1, &feature1, &feature2) {
-        m.local_n1 = n1.into_inner();
-        m.local_n2 = n2.into_inner();
-    } else {
-        rebuild(m, s1, s2, pos12, n1);
-    }
 }
 
 /// The flat normal (a cap's, a face's; frame 1, from 1 toward 2) of either

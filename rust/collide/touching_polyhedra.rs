@@ -70,7 +70,7 @@ pub fn repair(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12:
         // the points of two edges, so the manifold is clipped again on the best
         // face whatever its normal.
         if (boxes || best != n) && s >= separation(p1, p2, &pos, &n) - SAME {
-            rebuild(m, p1, p2, &pos, &best);
+            rebuild(m, p1, p2, &pos, &best, false);
         }
     }
 }
@@ -147,9 +147,10 @@ pub(super) fn face_normals(s: &dyn Shape) -> Vec<Unit<Vector3<f64>>> {
 }
 
 /// Manifold `m` built again on normal `n1` (frame 1) by clipping the two
-/// shapes' support features, carrying the warm-start data of points that
-/// match.
-pub(super) fn rebuild(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>) {
+/// shapes' support features (`edges`: an edge on a face too, see
+/// [`super::face_clip::edge_and_face`]), carrying the warm-start data of
+/// points that match.
+pub(super) fn rebuild(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, edges: bool) {
     let (Some((f1, _)), Some((f2, _))) = (s1.as_polygonal_feature_map(), s2.as_polygonal_feature_map()) else {
         return;
     };
@@ -157,7 +158,9 @@ pub(super) fn rebuild(m: &mut Manifold, s1: &dyn Shape, s2: &dyn Shape, pos12: &
     let (mut feature1, mut feature2) = (PolygonalFeature::default(), PolygonalFeature::default());
     f1.local_support_feature(n1, &mut feature1);
     f2.local_support_feature(&n2, &mut feature2);
-    if !super::face_clip::faces(m, pos12, n1, &feature1, &feature2) {
+    let clipped = super::face_clip::faces(m, pos12, n1, &feature1, &feature2)
+        || (edges && super::face_clip::edge_and_face(m, pos12, n1, &feature1, &feature2));
+    if !clipped {
         let old = m.points.clone();
         m.clear();
         PolygonalFeature::contacts(pos12, &pos12.inverse(), n1, &n2, &feature1, &feature2, m, false);

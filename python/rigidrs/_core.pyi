@@ -136,7 +136,10 @@ class ConvexHull(Shape):
 @final
 class TriMesh(Shape):
     """A triangle mesh: ``vertices`` (V, 3) (m), ``triangles`` (T, 3) vertex indices,
-    counter-clockwise seen from outside. Closed to carry mass."""
+    counter-clockwise seen from outside. Closed to carry mass. A mesh collides only on
+    the side its triangles run counter-clockwise from: an open one (a terrain, a bowl)
+    must face the bodies (``Scene.build`` warns of a dynamic body that starts behind a
+    fixed or kinematic mesh; ``triangles[:, ::-1]`` turns a mesh round)."""
 
     def __new__(cls, vertices: ArrayLike, triangles: ArrayLike) -> TriMesh: ...
     @classmethod

@@ -10,6 +10,7 @@ mod face_clip;
 mod internal_edges;
 pub mod face_points;
 pub mod material;
+pub mod mesh_side;
 pub mod narrow_phase;
 mod passing;
 pub mod sweep_and_prune;

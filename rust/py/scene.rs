@@ -263,8 +263,30 @@ impl PyScene {
         if let (Some(hertz), true) = (asked, world.collision.is_some()) {
             warn_stiffness_capped(py, hertz, dt, world.substeps())?;
         }
+        warn_behind_meshes(py, &world.behind_meshes())?;
         Ok(PyWorld::new(world))
     }
+}
+
+/// Bodies that start behind a fixed mesh pass through it (a mesh collides on
+/// the side its triangles run counter-clockwise from): say which, and how to
+/// turn the mesh round.
+fn warn_behind_meshes(py: Python<'_>, found: &[(u32, u32)]) -> PyResult<()> {
+    let Some(&(body, mesh)) = found.first() else { return Ok(()) };
+    let others = if found.len() > 1 { format!(" (and {} more such bodies)", found.len() - 1) } else { String::new() };
+    let msg = format!(
+        "body {body} starts behind the mesh of body {mesh}{others}: a mesh collides only on the side its \
+         triangles run counter-clockwise from, so it will pass through; if it should rest on the mesh, \
+         reverse the triangles' winding (triangles[:, ::-1])"
+    );
+    user_warning(py, msg)
+}
+
+/// Emits `msg` as a Python `UserWarning`.
+fn user_warning(py: Python<'_>, msg: String) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    let msg = std::ffi::CString::new(msg).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(py, &category, &msg, 1)
 }
 
 /// A `contact_hertz` the substep cannot resolve is capped at a quarter of the
@@ -279,7 +301,5 @@ fn warn_stiffness_capped(py: Python<'_>, hertz: f64, dt: f64, substeps: u32) -> 
         "contact_hertz={hertz} Hz is above a quarter of the substep rate ({substeps} substeps of dt={dt} s): \
          contacts use {cap:.4} Hz; raise substeps or lower contact_hertz"
     );
-    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-    let msg = std::ffi::CString::new(msg).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
-    PyErr::warn(py, &category, &msg, 1)
+    user_warning(py, msg)
 }

@@ -133,7 +133,9 @@ impl PyConvexHull {
 }
 
 /// A triangle mesh: `vertices` (V, 3) (m), `triangles` (T, 3) vertex indices,
-/// counter-clockwise seen from outside. Must be closed to carry mass.
+/// counter-clockwise seen from outside. Must be closed to carry mass. It collides
+/// only on the side its triangles run counter-clockwise from (see
+/// `collide::mesh_side`): an open mesh must face the bodies.
 #[pyclass(name = "TriMesh", module = "rigidrs._core", extends = PyShape, frozen)]
 pub struct PyTriMesh;
 

@@ -10,6 +10,7 @@ pub mod guard;
 pub mod inputs;
 pub mod joints;
 pub mod link_contacts;
+pub mod mesh_sides;
 pub mod particles;
 pub mod pipeline;
 pub mod profile;

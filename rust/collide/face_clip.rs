@@ -130,3 +130,45 @@ fn dedup(poly: &[Corner], tol: f64) -> Vec<Corner> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn feature(vertices: &[[f64; 3]]) -> PolygonalFeature {
+        let mut f = PolygonalFeature::default();
+        for (k, v) in vertices.iter().enumerate() {
+            f.vertices[k] = Point3::from(*v);
+            f.vids[k] = PackedFeatureId::vertex(k as u32);
+            f.eids[k] = PackedFeatureId::edge(k as u32);
+        }
+        f.fid = PackedFeatureId::face(0);
+        f.num_vertices = vertices.len();
+        f
+    }
+
+    /// A line resting across a diamond through two of its corners (a log's top
+    /// line under a can's cap, as parry's polygon of the cap has it), either
+    /// way round and nudged by round-off: always both corners, touching.
+    #[test]
+    fn an_edge_through_two_corners_of_a_face_keeps_both() {
+        let r = 0.05;
+        let diamond = feature(&[[r, 0.0, 0.0], [0.0, r, 0.0], [-r, 0.0, 0.0], [0.0, -r, 0.0]]);
+        let up = Unit::new_unchecked(Vector3::z());
+        for k in 0..20 {
+            let nudge = (k as f64 - 10.0) * 1e-17;
+            let line = feature(&[[-1.0, nudge, 0.0], [1.0, -nudge, 0.0]]);
+            // The line on body 1 under the face of body 2, then the face on body 1.
+            let cases = [(&line, &diamond, up), (&diamond, &line, up)];
+            for (f1, f2, n1) in cases {
+                let mut m = Manifold::new();
+                assert!(edge_and_face(&mut m, &Isometry3::identity(), &n1, f1, f2));
+                let mut xs: Vec<f64> = m.points.iter().map(|p| p.local_p1.x).collect();
+                xs.sort_by(f64::total_cmp);
+                assert_eq!(xs.len(), 2, "nudge {nudge}: {xs:?}");
+                assert!((xs[0] + r).abs() < 1e-12 && (xs[1] - r).abs() < 1e-12, "{xs:?}");
+                assert!(m.points.iter().all(|p| p.dist.abs() < 1e-15 && (p.local_p1 - p.local_p2).norm() < 1e-15));
+            }
+        }
+    }
+}

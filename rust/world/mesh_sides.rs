@@ -21,7 +21,7 @@ impl World {
             let pose = body_pose(b, m.body as usize) * m.local;
             for d in cols.iter().filter(|d| b.kind[d.body as usize] == BodyKind::Dynamic && d.filter.allows(&m.filter)) {
                 let centre = Point3::from(crate::math::Vec3::from(b.position[d.body as usize]));
-                if behind(m, &pose, &centre) {
+                if behind(m.shape.as_ref(), &pose, &centre) {
                     found.push((d.body, m.body));
                 }
             }

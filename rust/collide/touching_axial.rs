@@ -40,22 +40,29 @@ const SNAP: f64 = 1e-6;
 /// (1e-16 of the distances), far below anything a contact resolves.
 const SHIFT: f64 = 1e-6;
 
+/// A cylinder or a cone.
+fn axial(s: &dyn Shape) -> bool {
+    s.as_cylinder().is_some() || s.as_cone().is_some()
+}
+
+/// A solid this module pairs with an axial shape: an axial shape, a box or a
+/// hull (balls and capsules meet others at a distance of their radius from
+/// their core, never at GJK's zero).
+fn solid(s: &dyn Shape) -> bool {
+    axial(s) || s.as_cuboid().is_some() || s.as_convex_polyhedron().is_some()
+}
+
 /// Whether two shapes (or parts of compounds) are a pair this module checks:
-/// a cylinder or a cone with a box, a hull, a cylinder or a cone (balls and
-/// capsules meet others at a distance of their radius from their core, never
-/// at GJK's zero).
+/// a cylinder or a cone with a solid.
 fn applies(s1: &dyn Shape, s2: &dyn Shape) -> bool {
-    let axial = |s: &dyn Shape| s.as_cylinder().is_some() || s.as_cone().is_some();
-    let solid = |s: &dyn Shape| axial(s) || s.as_cuboid().is_some() || s.as_convex_polyhedron().is_some();
     (axial(s1) || axial(s2)) && solid(s1) && solid(s2)
 }
 
 /// Whether some manifold of the pair may be one this module checks (a
 /// compound's parts may be cylinders: a table on four round legs).
 pub fn may_apply(s1: &dyn Shape, s2: &dyn Shape) -> bool {
-    let axial = |s: &dyn Shape| s.as_cylinder().is_some() || s.as_cone().is_some() || s.as_compound().is_some();
-    let solid = |s: &dyn Shape| axial(s) || s.as_cuboid().is_some() || s.as_convex_polyhedron().is_some();
-    (axial(s1) || axial(s2)) && solid(s1) && solid(s2)
+    let compound = |s: &dyn Shape| s.as_compound().is_some();
+    (axial(s1) || axial(s2) || compound(s1) || compound(s2)) && (solid(s1) || compound(s1)) && (solid(s2) || compound(s2))
 }
 
 /// Computes again, apart (see the module docs), each manifold of the pair

@@ -237,6 +237,9 @@ impl ContactSolver {
         self.softness = Softness::new(hertz, self.settings.contact_damping_ratio, h);
         self.support.residual *= ratio;
         self.inv_h = 1.0 / h;
+        for s in &mut self.bodies {
+            s.chord *= ratio;
+        }
     }
 
     /// The warm start's impulses (those of the last substep) scaled by

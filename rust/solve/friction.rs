@@ -111,6 +111,7 @@ impl Patch {
             patch_of_touching(shape, c, points, bodies)
         };
         f.lever = shape.lever;
+        let (r1, r2) = (a1.friction_arm(r1, &c.normal), a2.friction_arm(r2, &c.normal));
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);

@@ -218,12 +218,14 @@ impl ContactSolver {
             Some(s) => Mat3::from_diagonal_element(s),
             None => self.reference_inv_inertia(b, i),
         };
+        let chord = if dynamic { Vec3::zeros() } else { Vec3::from(b.angular_velocity[i]) / self.inv_h };
         self.bodies.push(SolverBody {
             inv_m: if dynamic { b.inv_mass[i] } else { 0.0 },
             inv_i,
             iso,
             body: i as u32,
             dynamic,
+            chord,
             ..Default::default()
         });
         self.p0.push(Vec3::from(b.position[i]));

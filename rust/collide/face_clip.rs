@@ -24,11 +24,30 @@ struct Corner {
     edge2: PackedFeatureId,
 }
 
+/// A polygon of a shape (its own frame), or an edge (two vertices): its
+/// vertices in order, their features, the edge from each to the next, and
+/// its face. parry's features hold at most four vertices; a cylinder's cap
+/// has more (see [`super::cylinder_cap`]).
+#[derive(Clone, Copy)]
+pub struct Face<'a> {
+    pub vertices: &'a [Point3<f64>],
+    pub vids: &'a [PackedFeatureId],
+    pub eids: &'a [PackedFeatureId],
+    pub fid: PackedFeatureId,
+}
+
+impl<'a> Face<'a> {
+    pub fn of(f: &'a PolygonalFeature) -> Self {
+        let n = f.num_vertices.min(f.vertices.len());
+        Face { vertices: &f.vertices[..n], vids: &f.vids[..n], eids: &f.eids[..n], fid: f.fid }
+    }
+}
+
 /// Replaces the points of `m` by those of face `f1` (frame 1) against face
 /// `f2` (frame 2; `pos12` takes it to frame 1) along normal `n1`. False (and
 /// `m` untouched) unless both are faces.
 pub fn faces(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
-    f1.num_vertices >= 3 && f2.num_vertices >= 3 && clip_on(m, pos12, n1, f1, f2)
+    f1.num_vertices >= 3 && f2.num_vertices >= 3 && clip_on(m, pos12, n1, &Face::of(f1), &Face::of(f2))
 }
 
 /// Replaces the points of `m` by those of an edge lying on a face, either way
@@ -40,19 +59,30 @@ pub fn faces(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, 
 /// False (and `m` untouched) unless one is an edge and the other a face.
 pub fn edge_and_face(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
     match (f1.num_vertices, f2.num_vertices) {
-        (n, 2) if n >= 3 => clip_on(m, pos12, n1, f1, f2),
-        (2, n) if n >= 3 => {
-            let mut seen = Manifold::new();
-            seen.points = m.points.iter().map(swapped).collect();
-            let n2 = Unit::new_unchecked(pos12.inverse_transform_vector(&-n1.into_inner()));
-            if !clip_on(&mut seen, &pos12.inverse(), &n2, f2, f1) {
-                return false;
-            }
-            m.points = seen.points.iter().map(swapped).collect();
-            true
-        }
+        (n, 2) if n >= 3 => clip_on(m, pos12, n1, &Face::of(f1), &Face::of(f2)),
+        (2, n) if n >= 3 => clip_either(m, pos12, n1, (&Face::of(f1), &Face::of(f2)), false),
         _ => false,
     }
+}
+
+/// Replaces the points of `m` by those of the incident polygon or edge
+/// clipped by the side planes of the reference face, points on them kept:
+/// `faces.0` is shape 1's (frame 1), `faces.1` shape 2's (frame 2), and the
+/// reference is shape 1's if `reference_is_1`. A reference of one vertex is
+/// a plane through it, with no sides. False (and `m` untouched) if nothing
+/// is left.
+pub fn clip_either(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, faces: (&Face, &Face), reference_is_1: bool) -> bool {
+    if reference_is_1 {
+        return clip_on(m, pos12, n1, faces.0, faces.1);
+    }
+    let mut seen = Manifold::new();
+    seen.points = m.points.iter().map(swapped).collect();
+    let n2 = Unit::new_unchecked(pos12.inverse_transform_vector(&-n1.into_inner()));
+    if !clip_on(&mut seen, &pos12.inverse(), &n2, faces.1, faces.0) {
+        return false;
+    }
+    m.points = seen.points.iter().map(swapped).collect();
+    true
 }
 
 /// A point seen from the other shape.
@@ -65,13 +95,13 @@ fn swapped(p: &Tracked) -> Tracked {
 
 /// The incident feature `f2` (a face or an edge) clipped by the side planes
 /// of the reference face `f1` (see [`faces`]).
-fn clip_on(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &PolygonalFeature, f2: &PolygonalFeature) -> bool {
-    let reference = &f1.vertices[..f1.num_vertices];
-    let size = reference.iter().map(|v| (v - reference[0]).norm()).fold(0.0, f64::max);
+fn clip_on(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1: &Face, f2: &Face) -> bool {
+    let reference = f1.vertices;
+    let Some(&origin) = reference.first() else { return false };
+    let size = reference.iter().map(|v| (v - origin).norm()).fold(0.0, f64::max);
     let tol = EDGE * size.max(f64::MIN_POSITIVE);
-    let mut poly: Vec<Corner> = (0..f2.num_vertices)
-        .map(|k| Corner { p: pos12 * f2.vertices[k], fid1: f1.fid, fid2: f2.vids[k], edge2: f2.eids[k] })
-        .collect();
+    let mut poly: Vec<Corner> =
+        f2.vertices.iter().zip(f2.vids.iter().zip(f2.eids)).map(|(v, (&vid, &eid))| Corner { p: pos12 * v, fid1: f1.fid, fid2: vid, edge2: eid }).collect();
     let centre = reference.iter().fold(Vector3::zeros(), |s, v| s + v.coords) / reference.len() as f64;
     for k in 0..reference.len() {
         let (a, b) = (reference[k], reference[(k + 1) % reference.len()]);
@@ -80,7 +110,7 @@ fn clip_on(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1
             side = -side;
         }
         let Some(side) = Unit::try_new(side, 0.0) else { continue };
-        poly = clip(&poly, &a, &side, tol, f1.eids[k]);
+        poly = clip(&poly, &a, &side, tol, f1.eids.get(k).copied().unwrap_or(f1.fid));
         if poly.is_empty() {
             return false;
         }
@@ -88,7 +118,7 @@ fn clip_on(m: &mut Manifold, pos12: &Isometry3<f64>, n1: &Unit<Vector3<f64>>, f1
     let old = m.points.clone();
     m.clear();
     for c in dedup(&poly, tol) {
-        let dist = n1.dot(&(c.p - reference[0]));
+        let dist = n1.dot(&(c.p - origin));
         let local_p1 = c.p - n1.into_inner() * dist;
         let local_p2 = pos12.inverse_transform_point(&c.p);
         m.points.push(Tracked::new(local_p1, local_p2, c.fid1, c.fid2, dist));

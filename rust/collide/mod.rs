@@ -4,6 +4,7 @@
 pub mod broad_phase;
 pub mod ccd;
 mod coincident_points;
+pub mod cylinder_cap;
 pub mod collider;
 pub mod corners;
 mod face_clip;

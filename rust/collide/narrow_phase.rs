@@ -367,7 +367,8 @@ fn touches(state: &PairState) -> bool {
 /// touching exactly repaired ([`super::touching_polyhedra`]) and the corners
 /// it leaves out of faces of more than four added ([`super::face_points`]),
 /// those of cylinders and cones touching exactly computed a hair apart
-/// ([`super::touching_axial`]).
+/// ([`super::touching_axial`]) and their caps resting on faces given their
+/// round shape ([`super::cylinder_cap`]).
 /// Used by the narrow phase and by the impacts' contacts at their time of
 /// impact, where the bodies touch exactly.
 pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, prediction: f64, (manifolds, workspace): (&mut Vec<Manifold>, &mut Option<ContactManifoldsWorkspace>)) {
@@ -383,6 +384,9 @@ pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, predic
     let _ = DefaultQueryDispatcher.contact_manifolds(pos12, s1, s2, prediction, manifolds, workspace);
     if super::touching_axial::may_apply(s1, s2) {
         super::touching_axial::repair(manifolds, s1, s2, pos12, prediction);
+    }
+    if super::cylinder_cap::may_apply(s1, s2) {
+        super::cylinder_cap::refine(manifolds, s1, s2, pos12, prediction);
     }
     if afresh {
         rematch(manifolds, &old);

@@ -6,6 +6,9 @@ use super::contact::{inv_inertia_world, refresh, Constraint, ContactSolver, Poin
 use rayon::prelude::*;
 use super::friction::Patch;
 use crate::body::Bodies;
+// Where a cylinder's contact leaves its flat cap for its rim or side (the
+// narrow phase gives a flat cap its round polygon on the same bound).
+use crate::collide::cylinder_cap::ACROSS_AXIS;
 use crate::math::{quat, Mat3, Quat, Vec3};
 
 /// A body as the solver sees it. Entry 0 stands for every fixed body.
@@ -76,11 +79,6 @@ pub struct Rounding {
     pub radius: f64,
     pub axis: Vec3,
 }
-
-/// Least `1 − (n·axis)²` for a cylinder's contact to be on its rim or side
-/// rather than flat on its cap (whose points are material points of a flat
-/// face): the normal more than 5.7° from the axis.
-const ACROSS_AXIS: f64 = 0.01;
 
 impl Rounding {
     /// How much farther apart (m) than its material points the rounded surface

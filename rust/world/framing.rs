@@ -23,7 +23,10 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// patches' polygons apart from the patches.
 /// 8: each body's last support-block change (the echo bound of the quiet
 /// islands).
-pub const FORMAT_VERSION: u32 = 9;
+/// 9: the restitution threshold optional (its default follows the step).
+/// 10: the solver bodies' chords (a turning kinematic body's turn in a
+/// substep: friction along its points' chords).
+pub const FORMAT_VERSION: u32 = 10;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

@@ -20,7 +20,8 @@ use parry3d_f64::shape::{PackedFeatureId, PolygonalFeature, Shape, Triangle};
 
 use super::face_clip::{clip_either, Face};
 use super::narrow_phase::Manifold;
-use super::touching_polyhedra::part;
+use super::touching_axial::axial;
+use super::touching_polyhedra::{part, part_pose};
 
 /// Corners of a cap's polygon.
 pub const SIDES: usize = 16;
@@ -102,12 +103,11 @@ impl Polygon {
     }
 }
 
-/// A shape with a cap, or a compound with such a part.
+/// A shape with a cap (a cylinder, a cone), or a compound with such a part.
 fn capped(s: &dyn Shape) -> bool {
-    let one = |s: &dyn Shape| s.as_cylinder().is_some() || s.as_cone().is_some();
     match s.as_compound() {
-        Some(c) => c.shapes().iter().any(|(_, p)| one(p.as_ref())),
-        None => one(s),
+        Some(c) => c.shapes().iter().any(|(_, p)| axial(p.as_ref())),
+        None => axial(s),
     }
 }
 
@@ -125,9 +125,7 @@ pub fn refine(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12:
         let (t1, t2) = (triangle(s1, m.subshape1), triangle(s2, m.subshape2));
         let p1: &dyn Shape = t1.as_ref().map_or_else(|| part(s1, m.subshape1), |t| t as &dyn Shape);
         let p2: &dyn Shape = t2.as_ref().map_or_else(|| part(s2, m.subshape2), |t| t as &dyn Shape);
-        // A compound's manifold is in its parts' frames.
-        let at = |p: Option<Isometry3<f64>>| p.unwrap_or_else(Isometry3::identity);
-        let pos = at(m.subshape_pos1).inv_mul(&(pos12 * at(m.subshape_pos2)));
+        let pos = part_pose(m, pos12);
         let (n1, n2) = (m.local_n1, m.local_n2);
         let Some(u1) = Unit::try_new(n1, 0.0) else { continue };
         let clipped = match (cap_of(p1, &n1), cap_of(p2, &n2)) {

@@ -26,7 +26,7 @@ use parry3d_f64::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d_f64::shape::Shape;
 
 use super::narrow_phase::Manifold;
-use super::touching_polyhedra::{face_normals, part, rebuild};
+use super::touching_polyhedra::{face_normals, part, part_pose, rebuild};
 
 /// GJK distances (m) within this of zero are touching to round-off (as in
 /// [`super::touching_polyhedra`]).
@@ -41,7 +41,7 @@ const SNAP: f64 = 1e-6;
 const SHIFT: f64 = 1e-6;
 
 /// A cylinder or a cone.
-fn axial(s: &dyn Shape) -> bool {
+pub(super) fn axial(s: &dyn Shape) -> bool {
     s.as_cylinder().is_some() || s.as_cone().is_some()
 }
 
@@ -74,9 +74,7 @@ pub fn repair(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12:
         if !applies(p1, p2) || !touching(m) {
             continue;
         }
-        // A compound's manifold is in its parts' frames.
-        let at = |p: Option<Isometry3<f64>>| p.unwrap_or_else(Isometry3::identity);
-        let pos = at(m.subshape_pos1).inv_mul(&(pos12 * at(m.subshape_pos2)));
+        let pos = part_pose(m, pos12);
         recompute(m, p1, p2, &pos, prediction);
     }
 }

@@ -61,9 +61,7 @@ pub fn repair(manifolds: &mut [Manifold], s1: &dyn Shape, s2: &dyn Shape, pos12:
         if !touching(m, p1, p2, boxes) {
             continue;
         }
-        // A compound's manifold is in its parts' frames.
-        let at = |p: Option<Isometry3<f64>>| p.unwrap_or_else(Isometry3::identity);
-        let pos = at(m.subshape_pos1).inv_mul(&(pos12 * at(m.subshape_pos2)));
+        let pos = part_pose(m, pos12);
         let Some(n) = Unit::try_new(m.local_n1, 1e-12) else { continue };
         let Some((best, s)) = best_face_axis(p1, p2, &pos) else { continue };
         // Two boxes: their edge–edge axes can be a face normal exactly, with
@@ -94,6 +92,13 @@ fn touching(m: &Manifold, p1: &dyn Shape, p2: &dyn Shape, boxes: bool) -> bool {
     }
     let gjk = m.points.iter().find(|p| p.fid1 == PackedFeatureId::UNKNOWN).map(|p| p.dist);
     gjk.is_some_and(|d| d.abs() <= TOUCH) && applies(p1, p2)
+}
+
+/// Manifold `m`'s part of shape 2 in its part of shape 1's frame (`pos12`:
+/// the shapes'): a compound's manifold is in its parts' frames.
+pub(super) fn part_pose(m: &Manifold, pos12: &Isometry3<f64>) -> Isometry3<f64> {
+    let at = |p: Option<Isometry3<f64>>| p.unwrap_or_else(Isometry3::identity);
+    at(m.subshape_pos1).inv_mul(&(pos12 * at(m.subshape_pos2)))
 }
 
 /// Part `index` of a compound, or the shape itself.

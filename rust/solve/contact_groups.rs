@@ -115,12 +115,14 @@ impl ContactSolver {
         });
     }
 
-    /// The friction pass over the contacts solved both ways, group by group.
+    /// The friction pass over the contacts solved both ways, group by group
+    /// (`closing`: see `ContactSolver::solve_friction`).
     #[inline(never)]
-    pub(crate) fn friction_by_groups(&mut self) {
+    pub(crate) fn friction_by_groups(&mut self, closing: Option<&Rule>) {
         self.each_group(|cs, g| {
             let list = cs.groups.ordinary.of(g);
-            super::friction::rub_each(list, &cs.constraints, &cs.points, (&mut cs.patches, &cs.shapes), &mut cs.bodies);
+            let patches = (&mut cs.patches[..], &cs.shapes[..]);
+            super::friction::rub_each(list, &cs.constraints, &mut cs.points, patches, &mut cs.bodies, closing);
             false
         });
     }

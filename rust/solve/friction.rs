@@ -14,6 +14,7 @@
 //! pyramid: the friction force has no preferred axes.
 
 use super::contact::{Constraint, ContactSolver, Point};
+use super::impulse::{close_gaps, Rule};
 use super::limit_surface::{inside, norm2, onto, PatchShape};
 use super::solver_body::{Gap, Pair, SolverBody};
 use crate::math::Vec3;
@@ -318,35 +319,52 @@ fn runs<T: PartialEq>(ids: impl Iterator<Item = T>, flat: &[[f64; 2]]) -> impl I
 
 impl ContactSolver {
     /// One friction pass over the patches solved both ways (support contacts rub
-    /// in their blocks, see `super::support`).
-    pub fn solve_friction(&mut self) {
+    /// in their blocks, see `super::support`). In the velocity pass (`relax`
+    /// false) a manifold with a gap to close has its normals solved again after
+    /// its friction (see [`super::impulse::close_gaps`]).
+    pub fn solve_friction(&mut self, relax: bool) {
+        let rule = (!relax).then(|| self.rule(false));
         if self.by_groups() {
-            return self.friction_by_groups();
+            return self.friction_by_groups(rule.as_ref());
         }
-        let (cs, points, bodies) = (&self.constraints, &self.points, &mut self.bodies);
-        rub_each(&self.ordinary, cs, points, (&mut self.patches, &self.shapes), bodies);
+        let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
+        rub_each(&self.ordinary, cs, points, (&mut self.patches, &self.shapes), bodies, rule.as_ref());
     }
 }
 
 /// [`rub`] for the patches of the constraints `list`, in order: the one
-/// place `rub` is inlined (see `super::impulse::solve_each`).
+/// place `rub` is inlined (see `super::impulse::solve_each`). `closing`: the
+/// velocity pass's rule, whose gaps are closed again after the friction.
 #[inline(never)]
-pub(super) fn rub_each(list: &[u32], cs: &[Constraint], points: &[Point], (patches, shapes): (&mut [Patch], &[PatchShape]), bodies: &mut [SolverBody]) {
+pub(super) fn rub_each(
+    list: &[u32],
+    cs: &[Constraint],
+    points: &mut [Point],
+    (patches, shapes): (&mut [Patch], &[PatchShape]),
+    bodies: &mut [SolverBody],
+    closing: Option<&Rule>,
+) {
     for &ci in list {
-        rub(&cs[ci as usize], points, (&mut patches[ci as usize], &shapes[ci as usize]), bodies);
+        let c = &cs[ci as usize];
+        if rub(c, points, (&mut patches[ci as usize], &shapes[ci as usize]), bodies) {
+            if let Some(rule) = closing {
+                close_gaps(c, points, bodies, rule);
+            }
+        }
     }
 }
 
-/// One friction solve of the patch of constraint `c`.
+/// One friction solve of the patch of constraint `c`; whether it changed an
+/// impulse.
 #[inline(always)]
-fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), bodies: &mut [SolverBody]) {
+fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), bodies: &mut [SolverBody]) -> bool {
     if c.static_friction == 0.0 {
-        return;
+        return false;
     }
     let points = &points[c.start as usize..(c.start + c.len) as usize];
     let jn: f64 = points.iter().map(|p| p.normal_impulse).sum();
     if jn == 0.0 && f.impulse == [0.0; 2] && f.twist == 0.0 {
-        return;
+        return false;
     }
     let mut pair = Pair::load(bodies, c);
     let (l, twist) = f.rub(shape, c, pair.patch_velocity(c, f), pair.twist_velocity(c), jn);
@@ -357,6 +375,7 @@ fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), 
     pair.apply_patch(c, f, d);
     pair.apply_twist(f, dt);
     pair.store(bodies, c);
+    d != [0.0; 2] || dt != 0.0
 }
 
 /// Inverse of the symmetric 3x3 `[k00, k01, k02, k11, k12, k22]` (zeros if

@@ -62,7 +62,7 @@ impl ContactSolver {
             super::impulse::solve_each(list, &self.constraints, &mut self.points, &mut self.bodies, (every, rule));
         }
         for list in s.index.of(i).iter().map(faces) {
-            super::friction::rub_each(list, &self.constraints, &self.points, (&mut self.patches, &self.shapes), &mut self.bodies);
+            super::friction::rub_each(list, &self.constraints, &mut self.points, (&mut self.patches, &self.shapes), &mut self.bodies, None);
         }
     }
 

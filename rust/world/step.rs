@@ -240,8 +240,8 @@ impl World {
                 s.warm_start();
                 s.warm_start_links();
             }),
-            StageKind::Friction { .. } => self.with_solver(|s, _| {
-                s.solve_friction();
+            StageKind::Friction { relax } => self.with_solver(|s, _| {
+                s.solve_friction(relax);
             }),
             StageKind::Normal { relax } => self.with_solver(|s, _| {
                 if relax {

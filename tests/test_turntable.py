@@ -8,12 +8,14 @@ without creep within 0.1 mm).
 
 Friction is solved on velocities. The platform's material point under the box
 travels the chord of its arc in a substep, and the box is given that chord's
-velocity (`SolverBody::friction_arm`); given the tangent `ω × r` instead, the
+velocity (`SolverBody::chord_gap`); given the tangent `ω × r` instead, the
 substep carried it outward by r (ω h)² / 2, which nothing took back:
 2.61 / 10.53 / 43.45 mm in 10 s at ω = 0.5 / 1 / 2 rad/s (r = 0.5 m, 60 Hz),
 regression `test_a_box_held_by_static_friction_stays_on_its_circle`.
-Beyond the friction limit, the box slides off: that is checked as is. On a
-free (dynamic) turntable the box still creeps (strict xfail below).
+Beyond the friction limit, the box slides off: that is checked as is. A free
+(dynamic) turntable too: there the chords' difference is the friction's
+velocity target (`Patch::drift`), not a change of arm, so the two bodies'
+impulses act at one point and their angular momentum is kept.
 """
 from __future__ import annotations
 
@@ -89,13 +91,12 @@ def test_a_box_beyond_the_friction_limit_slides_off() -> None:
     assert math.hypot(p[0], p[1]) > 1.0 + HALF
 
 
-@pytest.mark.xfail(strict=True, reason="a free (dynamic) turntable's points are read on the tangent: the box creeps "
-                   "outward r (ω h)² / 2 a substep, 10.53 / 43.45 mm in 10 s at ω = 1 / 2 rad/s. The chord's arm "
-                   "used for kinematic bodies breaks the conservation of angular momentum between two free bodies "
-                   "(tried: 8 tests of test_collision_momentum failed); a per-patch velocity target is the fix")
 @pytest.mark.parametrize("omega", [1.0, 2.0])
 def test_a_box_on_a_free_turntable_stays_on_its_circle(omega: float) -> None:
     # A heavy disk spinning on a frictionless floor, the box riding on it.
+    # Read on the tangents it crept out 10.53 / 43.45 mm in 10 s; the chords'
+    # difference as the friction's target keeps both bodies' impulses at one
+    # point (test_collision_momentum.py holds).
     scene = rr.Scene(gravity=(0.0, 0.0, -G))
     scene.add_body(rr.Plane(), fixed=True, friction=0.0)
     table = scene.add_body(rr.Cylinder(1.0, HALF), density=5000.0, position=(0.0, 0.0, HALF),
@@ -106,3 +107,8 @@ def test_a_box_on_a_free_turntable_stays_on_its_circle(omega: float) -> None:
     world.step(round(10.0 / DT))
     x, y, _ = world.bodies.position[box] - world.bodies.position[table]
     assert abs(math.hypot(x, y) - R0) < 1e-4
+    # It turned with the table.
+    q = world.bodies.orientation[table]
+    yaw = 2 * math.atan2(q[2], q[3])
+    lag = (math.atan2(y, x) - yaw + math.pi) % (2 * math.pi) - math.pi
+    assert abs(lag) * R0 < 1e-4

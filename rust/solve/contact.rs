@@ -238,7 +238,7 @@ impl ContactSolver {
         self.support.residual *= ratio;
         self.inv_h = 1.0 / h;
         for s in &mut self.bodies {
-            s.chord *= ratio;
+            s.chord = super::solver_body::chord(s.chord * ratio);
         }
     }
 

@@ -16,6 +16,7 @@
 //! A tumbling 4000-cube pile has some 190 groups, the largest 250 bodies.
 
 use super::contact::ContactSolver;
+use super::friction::FrictionPass;
 use super::impulse::Rule;
 use super::lists::Lists;
 
@@ -118,11 +119,11 @@ impl ContactSolver {
     /// The friction pass over the contacts solved both ways, group by group
     /// (`closing`: see `ContactSolver::solve_friction`).
     #[inline(never)]
-    pub(crate) fn friction_by_groups(&mut self, closing: Option<&Rule>) {
+    pub(crate) fn friction_by_groups(&mut self, pass: &FrictionPass) {
         self.each_group(|cs, g| {
             let list = cs.groups.ordinary.of(g);
             let patches = (&mut cs.patches[..], &cs.shapes[..]);
-            super::friction::rub_each(list, &cs.constraints, &mut cs.points, patches, &mut cs.bodies, closing);
+            super::friction::rub_each(list, &cs.constraints, &mut cs.points, patches, &mut cs.bodies, pass);
             false
         });
     }

@@ -67,6 +67,12 @@ pub struct Patch {
     /// the cone is at least that wide, so a body held at the edge of its cone is
     /// not let go by the noise of one pass's normal impulse.
     pub settled: f64,
+    /// How much farther (m, along `t1`, `t2`) body 2's material point at the
+    /// centre travels in a substep than body 1's beyond what their velocities
+    /// carry them (see [`SolverBody::chord_gap`]): sticking, friction holds
+    /// their relative velocity at minus this over the substep, so that the
+    /// points travel together.
+    pub drift: [f64; 2],
 }
 
 impl Patch {
@@ -82,7 +88,7 @@ impl Patch {
     /// field by field in place.
     pub fn take_geometry_of(&mut self, o: &Patch) {
         // Every field is set below: a new one fails to compile here.
-        let Patch { rt1: _, rt2: _, irt1: _, irt2: _, in1: _, in2: _, tangent_mass: _, friction_mass: _, lever: _, impulse: _, twist: _, total: _, sliding: _, settled: _ } = o;
+        let Patch { rt1: _, rt2: _, irt1: _, irt2: _, in1: _, in2: _, tangent_mass: _, friction_mass: _, lever: _, impulse: _, twist: _, total: _, sliding: _, settled: _, drift: _ } = o;
         self.rt1 = o.rt1;
         self.rt2 = o.rt2;
         self.irt1 = o.irt1;
@@ -92,11 +98,25 @@ impl Patch {
         self.tangent_mass = o.tangent_mass;
         self.friction_mass = o.friction_mass;
         self.lever = o.lever;
+        self.drift = o.drift;
         self.impulse = [0.0; 2];
         self.twist = 0.0;
         self.total = [0.0; 2];
         self.sliding = false;
         self.settled = 0.0;
+    }
+
+    /// The [`drift`](Patch::drift) friction holds the points to: all of it
+    /// while the patch sticks, none while it slides (a can spinning on its
+    /// cap: the centre of the points pressing hardest wanders off its axis,
+    /// and its chord with it, and the can was pushed sideways at 3e-6 m/s).
+    #[inline(always)]
+    pub fn holding_drift(&self) -> [f64; 2] {
+        if self.sliding {
+            [0.0; 2]
+        } else {
+            self.drift
+        }
     }
 
     /// Brings the arms, effective masses, lever and polygon (`shape`) up to
@@ -112,13 +132,14 @@ impl Patch {
             patch_of_touching(shape, c, points, bodies)
         };
         f.lever = shape.lever;
-        let (r1, r2) = (a1.friction_arm(r1, &c.normal), a2.friction_arm(r2, &c.normal));
         for (k, t) in [c.t1, c.t2].iter().enumerate() {
             f.rt1[k] = r1.cross(t);
             f.rt2[k] = r2.cross(t);
             f.irt1[k] = a1.inv_i_mul(&f.rt1[k]);
             f.irt2[k] = a2.inv_i_mul(&f.rt2[k]);
         }
+        let gap = a2.chord_gap(&r2, &c.normal) - a1.chord_gap(&r1, &c.normal);
+        f.drift = [c.t1.dot(&gap), c.t2.dot(&gap)];
         f.in1 = a1.inv_i_mul(&c.normal);
         f.in2 = a2.inv_i_mul(&c.normal);
         let m = a1.inv_m + a2.inv_m;
@@ -319,22 +340,43 @@ fn runs<T: PartialEq>(ids: impl Iterator<Item = T>, flat: &[[f64; 2]]) -> impl I
 
 impl ContactSolver {
     /// One friction pass over the patches solved both ways (support contacts rub
-    /// in their blocks, see `super::support`). In the velocity pass (`relax`
-    /// false) a manifold with a gap to close has its normals solved again after
-    /// its friction (see [`super::impulse::close_gaps`]).
+    /// in their blocks, see `super::support`); `relax`: the pass after the
+    /// substep's drift. In the velocity pass a manifold with a gap to close has
+    /// its normals solved again after its friction (see
+    /// [`super::impulse::close_gaps`]).
     pub fn solve_friction(&mut self, relax: bool) {
-        let rule = (!relax).then(|| self.rule(false));
+        let pass = FrictionPass { closing: (!relax).then(|| self.rule(false)), rate: self.drift_rate(relax) };
         if self.by_groups() {
-            return self.friction_by_groups(rule.as_ref());
+            return self.friction_by_groups(&pass);
         }
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
-        rub_each(&self.ordinary, cs, points, (&mut self.patches, &self.shapes), bodies, rule.as_ref());
+        rub_each(&self.ordinary, cs, points, (&mut self.patches, &self.shapes), bodies, &pass);
+    }
+
+    /// What turns a patch's [`drift`](Patch::drift) into the slip friction
+    /// holds (1/s): `1/h` in the pass before the substep's drift, whose
+    /// velocities carry the bodies; 0 in the relax pass after it, whose
+    /// velocities start the next substep (held there, the chord of a turn
+    /// that friction had just stopped pushed a can coming to rest at 1e-8 m/s).
+    pub(crate) fn drift_rate(&self, relax: bool) -> f64 {
+        if relax {
+            0.0
+        } else {
+            self.inv_h
+        }
     }
 }
 
+/// One friction pass: the velocity pass's rule, whose gaps are closed again
+/// after the friction (`None` in the relax pass), and the rate its patches'
+/// drift is held at (see [`ContactSolver::drift_rate`]).
+pub(crate) struct FrictionPass {
+    pub closing: Option<Rule>,
+    pub rate: f64,
+}
+
 /// [`rub`] for the patches of the constraints `list`, in order: the one
-/// place `rub` is inlined (see `super::impulse::solve_each`). `closing`: the
-/// velocity pass's rule, whose gaps are closed again after the friction.
+/// place `rub` is inlined (see `super::impulse::solve_each`).
 #[inline(never)]
 pub(super) fn rub_each(
     list: &[u32],
@@ -342,12 +384,12 @@ pub(super) fn rub_each(
     points: &mut [Point],
     (patches, shapes): (&mut [Patch], &[PatchShape]),
     bodies: &mut [SolverBody],
-    closing: Option<&Rule>,
+    pass: &FrictionPass,
 ) {
     for &ci in list {
         let c = &cs[ci as usize];
-        if rub(c, points, (&mut patches[ci as usize], &shapes[ci as usize]), bodies) {
-            if let Some(rule) = closing {
+        if rub(c, points, (&mut patches[ci as usize], &shapes[ci as usize]), bodies, pass.rate) {
+            if let Some(rule) = &pass.closing {
                 close_gaps(c, points, bodies, rule);
             }
         }
@@ -357,7 +399,7 @@ pub(super) fn rub_each(
 /// One friction solve of the patch of constraint `c`; whether it changed an
 /// impulse.
 #[inline(always)]
-fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), bodies: &mut [SolverBody]) -> bool {
+fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), bodies: &mut [SolverBody], rate: f64) -> bool {
     if c.static_friction == 0.0 {
         return false;
     }
@@ -367,7 +409,10 @@ fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), 
         return false;
     }
     let mut pair = Pair::load(bodies, c);
-    let (l, twist) = f.rub(shape, c, pair.patch_velocity(c, f), pair.twist_velocity(c), jn);
+    let [u, v] = pair.patch_velocity(c, f);
+    let drift = f.holding_drift();
+    let slip = [u + drift[0] * rate, v + drift[1] * rate];
+    let (l, twist) = f.rub(shape, c, slip, pair.twist_velocity(c), jn);
     let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
     let dt = twist - f.twist;
     f.impulse = l;

@@ -21,6 +21,7 @@
 
 use super::block::{RowKind, Target};
 use super::contact::ContactSolver;
+use super::friction::FrictionPass;
 use super::impulse::Rule;
 
 /// Fraction of the sweeps' change kept below which an island of two blocks or
@@ -61,8 +62,10 @@ impl ContactSolver {
         for list in s.index.of(i).iter().map(faces) {
             super::impulse::solve_each(list, &self.constraints, &mut self.points, &mut self.bodies, (every, rule));
         }
+        let rate = self.drift_rate(rule.relax);
         for list in s.index.of(i).iter().map(faces) {
-            super::friction::rub_each(list, &self.constraints, &mut self.points, (&mut self.patches, &self.shapes), &mut self.bodies, None);
+            let pass = FrictionPass { closing: None, rate };
+            super::friction::rub_each(list, &self.constraints, &mut self.points, (&mut self.patches, &self.shapes), &mut self.bodies, &pass);
         }
     }
 

@@ -218,7 +218,7 @@ impl ContactSolver {
             Some(s) => Mat3::from_diagonal_element(s),
             None => self.reference_inv_inertia(b, i),
         };
-        let chord = if dynamic { Vec3::zeros() } else { Vec3::from(b.angular_velocity[i]) / self.inv_h };
+        let chord = super::solver_body::chord(Vec3::from(b.angular_velocity[i]) / self.inv_h);
         self.bodies.push(SolverBody {
             inv_m: if dynamic { b.inv_mass[i] } else { 0.0 },
             inv_i,

@@ -438,6 +438,7 @@ impl ContactSolver {
     /// Targets of block `g`'s rows for a velocity pass: a gap may close within
     /// the substep; friction and twist stop the slip.
     pub(crate) fn block_targets(&mut self, g: usize, rule: &Rule) {
+        let rate = self.drift_rate(rule.relax);
         let s = &mut self.support;
         let (r0, r1) = (s.blocks[g].rows.0 as usize, s.blocks[g].rows.1 as usize);
         let mut i = r0;
@@ -456,7 +457,15 @@ impl ContactSolver {
                             Target::AtLeast(-rule.bias(sep))
                         }
                     }
-                    _ => Target::Friction(0.0),
+                    // Sticking, the points travel their chords together (see
+                    // `Patch::drift`); a row reads body 2's velocity relative
+                    // to body 1's when body 1 is the lower.
+                    RowKind::Tangent(a) => {
+                        let c = &self.constraints[face as usize];
+                        let sign = if c.lower == 1 { 1.0 } else { -1.0 };
+                        Target::Friction(-sign * self.patches[face as usize].holding_drift()[a as usize] * rate)
+                    }
+                    RowKind::Twist => Target::Friction(0.0),
                 };
                 i += 1;
             }

@@ -26,7 +26,9 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 9: the restitution threshold optional (its default follows the step).
 /// 10: the solver bodies' chords (a turning kinematic body's turn in a
 /// substep: friction along its points' chords).
-pub const FORMAT_VERSION: u32 = 10;
+/// 11: every body's chord, and the patches' drift (the chords' difference
+/// friction holds, on free bodies too).
+pub const FORMAT_VERSION: u32 = 11;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

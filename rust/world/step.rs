@@ -175,7 +175,14 @@ impl World {
             Group::Touching => &self.split[1],
         };
         match stage.kind {
+            StageKind::Forces(Group::Touching) => {
+                kick::kick(&mut self.bodies, &self.split[1].dynamic, hf, src);
+                remember_kick(&self.bodies, &self.split[1].dynamic, &mut self.kicked);
+            }
             StageKind::Forces(g) => kick::kick(&mut self.bodies, &group(g).dynamic, hf, src),
+            StageKind::Translate(Group::Touching) if src.any() && !self.kicked.is_empty() => {
+                drift::translate_touching(&mut self.bodies, &self.split[1].dynamic, (hf, h), &self.kicked, src)
+            }
             StageKind::Translate(g) => drift::translate(&mut self.bodies, &group(g).dynamic, hf),
             StageKind::Rotate(InertiaClass::Asymmetric, g, first) if self.rotation == Rotation::Free => {
                 let l = group(g);
@@ -373,5 +380,14 @@ fn move_kinematic(b: &mut Bodies, list: &[u32], h: f64) {
             let q = quat::exp(&(w * h)) * b.q(i);
             b.orientation[i] = quat::to_xyzw(&(q / q.norm()));
         }
+    }
+}
+
+/// Records the velocities the kick gave the bodies of `list` (see
+/// `drift::translate_touching`).
+fn remember_kick(b: &crate::body::Bodies, list: &[u32], kicked: &mut Vec<[f64; 3]>) {
+    kicked.resize(b.linear_velocity.len(), [f64::NAN; 3]);
+    for &i in list {
+        kicked[i as usize] = b.linear_velocity[i as usize];
     }
 }

@@ -67,6 +67,11 @@ pub struct World {
     /// drifts of a composition, and a scratch mark per body to build it.
     pub(crate) slow: Vec<crate::integrate::Aniso>,
     pub(crate) fast_mark: Vec<bool>,
+    /// Per body in contact, its linear velocity right after this substep's
+    /// kick: a body the contact solve left at it drifts along its kick's
+    /// parabola (see [`crate::integrate::drift::translate_touching`]).
+    #[serde(skip)]
+    pub(crate) kicked: Vec<[f64; 3]>,
     /// Drift fractions of the integrator's composition, which each rotation
     /// substep of a fast body repeats (`[1.0]` for strang).
     pub(crate) fast_weights: Vec<f64>,
@@ -168,6 +173,7 @@ impl World {
             fast: Vec::new(),
             slow: Vec::new(),
             fast_mark: Vec::new(),
+            kicked: Vec::new(),
             fast_weights,
             steps: 0,
             keep_derived: false,

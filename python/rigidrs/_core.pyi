@@ -472,10 +472,11 @@ class Scene:
         substeps instead (semi-implicit, like the bodies in contact): that step the world
         takes ``max(substeps, articulation_substeps or the count h·ω ≤ 0.25 asks)`` of them,
         at most 256. Fast spinners: ``max_rotation_angle`` (rad, default None: the
-        integrator's own, 0.2 for strang, 0.5 for yoshida4, 0.6 for suzuki4) is the largest
-        angle a body may turn by per rotation substep of the split integrators, taken at the
-        largest ``|ω|`` of its free orbit; an asymmetric body that would turn more per step
-        takes that many more rotation substeps, alone (stage ``rotate_fast``); ``math.inf``
+        integrator's own, 0.2 for strang, 0.5 for yoshida4, 0.6 for suzuki4, 0.03 for rk4) is
+        the largest angle a body may turn by per rotation substep, taken at the largest
+        ``|ω|`` of its free orbit; an asymmetric body that would turn more per step takes that
+        many more rotation substeps, alone (stage ``rotate_fast``; inside the ``rk4`` stage
+        for rk4); euler, symplectic_euler and implicit_gyro never subdivide; ``math.inf``
         never subdivides (the bare method). Threads: ``threads`` (≥ 1, default None: every
         core) worker threads for the world's own parallel work; every count gives the same
         bits."""

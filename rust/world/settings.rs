@@ -23,10 +23,11 @@ pub struct Settings {
     /// the particle constraints per substep. Default 1.
     pub iterations: u32,
     /// Largest angle (rad) a body may turn by per rotation substep of the split
-    /// integrators (`strang`, `yoshida4`, `suzuki4`), taken at the largest `|ω|`
-    /// of its free orbit: an asymmetric body over it has its rotation subdivided,
-    /// alone (`integrate::free_rotation::Substeps`). Default (`None`): the
-    /// integrator's own, [`Integrator::max_split_angle`] (0.2, 0.5, 0.6 rad);
+    /// integrators (`strang`, `yoshida4`, `suzuki4`) and of `rk4`, taken at the
+    /// largest `|ω|` of its free orbit: a body over it has its rotation
+    /// subdivided, alone (`integrate::free_rotation::Substeps`). Default
+    /// (`None`): the integrator's own, [`Integrator::max_split_angle`] (0.2,
+    /// 0.5, 0.6, 0.03 rad);
     /// `f64::INFINITY` never subdivides (the bare method, for convergence studies).
     pub max_rotation_angle: Option<f64>,
     pub solver: SolverSettings,

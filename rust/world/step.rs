@@ -210,7 +210,8 @@ impl World {
             }
             StageKind::Rk4 { group: g, forces } => {
                 let none = KickSources { gravity: Vec3::zeros(), force: false, torque: false };
-                rk4::step(&mut self.bodies, &group(g).dynamic, hf, if forces { src } else { &none });
+                let sub = Substeps::new(self.settings.rotation_angle(), step, &[1.0]);
+                rk4::step(&mut self.bodies, &group(g).dynamic, hf, if forces { src } else { &none }, sub);
             }
             StageKind::Gyroscopic(Gyroscopic::Explicit, g) => {
                 symplectic_euler::gyroscopic_explicit(&mut self.bodies, &group(g).anisotropic_index, hf)

@@ -301,9 +301,9 @@ class FastSpinner(FreeBody):
 
     def methods(self, cfg: Config) -> list[Method]:
         auto = [Method(f"{name} (default substeps)", integrator=name, max_rotation_angle=None)
-                for name in ("strang", "yoshida4", "suzuki4")]
+                for name in ("strang", "yoshida4", "suzuki4", "rk4")]
         return auto + [Method("strang, no substeps", integrator="strang", order=2.0),
-                       Method("rk4 (has none)", integrator="rk4", order=4.0)]
+                       Method("rk4, no substeps", integrator="rk4", order=4.0)]
 
     def duration_for(self, cfg: Config) -> float:
         return 5.0 if cfg.full else 1.0

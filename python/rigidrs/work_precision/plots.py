@@ -36,8 +36,10 @@ def styles(result: Result) -> dict[str, dict[str, Any]]:
     """Line style per method: an integrator keeps its colour across problems (dashed
     with more than one iteration; an articulation integrator takes the colours after
     the body integrators', square markers); curves of one integrator take the colour
-    cycle."""
+    cycle. A further curve of the same integrator and iterations (the bare method
+    beside its default substeps) is dash-dotted."""
     curves = result.curves()
+    seen: set[tuple[str, str | None, int]] = set()
     by_integrator = len({(runs[0].integrator, runs[0].articulation_integrator) for runs in curves.values()}) > 1
     names, arts = list(INTEGRATORS), list(ARTICULATION_INTEGRATORS)
     out = {}
@@ -47,8 +49,10 @@ def styles(result: Result) -> dict[str, dict[str, Any]]:
         index = len(names) + arts.index(art) if art else names.index(r.integrator)
         color = f"C{index % 10}" if by_integrator else f"C{k}"
         dashed = by_integrator and r.iterations > 1
-        out[label] = {"color": color, "ls": "--" if dashed else "-", "marker": "s" if art else "o", "ms": 3, "lw": 1.2,
-                      "label": label}
+        key = (r.integrator, art, r.iterations)
+        ls = "-." if by_integrator and key in seen else "--" if dashed else "-"
+        seen.add(key)
+        out[label] = {"color": color, "ls": ls, "marker": "s" if art else "o", "ms": 3, "lw": 1.2, "label": label}
     return out
 
 

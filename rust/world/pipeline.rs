@@ -4,7 +4,9 @@
 //! One step is `pre` (collision detection), then `substeps` times `sub`, then
 //! `post` (sleep). Within a substep, bodies that touch something this step take a
 //! velocity-level step (full kick, contact solve, drift, relax: first order, as in
-//! every impulse-based engine). Bodies in free flight keep the integrator's own
+//! every impulse-based engine; a body no contact pushed in the substep drifts
+//! along its kick's parabola, `integrate::drift::translate_touching`, exact as in
+//! free flight). Bodies in free flight keep the integrator's own
 //! splitting and its order: in a world with contacts only, they take its whole
 //! step once, in `pre` after the narrow phase, exactly as in a world without
 //! colliders (substeps are for contacts); with joints or particles, which act on

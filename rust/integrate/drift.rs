@@ -27,13 +27,7 @@ pub fn translate_touching(b: &mut Bodies, list: &[u32], (hf, h): (f64, f64), kic
         let i = i as usize;
         let v = b.linear_velocity[i];
         let pushed = kicked.get(i).is_none_or(|k| *k != v);
-        let a = if pushed {
-            Vec3::zeros()
-        } else if src.force {
-            src.gravity + Vec3::from(b.force[i]) * b.inv_mass[i]
-        } else {
-            src.gravity
-        };
+        let a = if pushed { Vec3::zeros() } else { src.acceleration(b, i) };
         let p = &mut b.position[i];
         for k in 0..3 {
             p[k] += hf * (v[k] - 0.5 * h * a[k]);

@@ -20,14 +20,23 @@ impl KickSources {
     pub fn any(&self) -> bool {
         self.force || self.torque || self.gravity != Vec3::zeros()
     }
+
+    /// The linear acceleration (m/s²) the kick gives dynamic body `i`: `g + F/m`.
+    #[inline(always)]
+    pub fn acceleration(&self, b: &Bodies, i: usize) -> Vec3 {
+        if self.force {
+            self.gravity + Vec3::from(b.force[i]) * b.inv_mass[i]
+        } else {
+            self.gravity
+        }
+    }
 }
 
 /// `v += h (g + F/m)`, `ω += h I⁻¹ τ` (world inertia) for the bodies in `list`.
 pub fn kick(b: &mut Bodies, list: &[u32], h: f64, src: &KickSources) {
-    let g = src.gravity;
     for &i in list {
         let i = i as usize;
-        let a = if src.force { g + Vec3::from(b.force[i]) * b.inv_mass[i] } else { g };
+        let a = src.acceleration(b, i);
         b.linear_velocity[i] = (Vec3::from(b.linear_velocity[i]) + h * a).into();
     }
     if src.torque {

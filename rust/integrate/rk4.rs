@@ -22,7 +22,7 @@ fn qdot(q: &Quat, l: &Vec3, inv_i: &Vec3) -> Quat {
 pub fn step(b: &mut Bodies, list: &[u32], h: f64, src: &KickSources, sub: Substeps) {
     for &i in list {
         let i = i as usize;
-        let a = if src.force { src.gravity + Vec3::from(b.force[i]) * b.inv_mass[i] } else { src.gravity };
+        let a = src.acceleration(b, i);
         let v = Vec3::from(b.linear_velocity[i]);
         b.position[i] = (Vec3::from(b.position[i]) + h * v + (0.5 * h * h) * a).into();
         b.linear_velocity[i] = (v + h * a).into();
@@ -63,6 +63,8 @@ fn quarter(q: &Quat, [l0, l_half, l1]: [&Vec3; 3], inv_i: &Vec3, h: f64) -> Quat
 /// `Σ x_j = |L|²` and `Σ x_j / I_j = 2E`: a segment of the simplex, over which
 /// `|ω|² = Σ x_j / I_j²` is linear, so its largest value is at an end, where
 /// one `x_j` is zero. A body without distinct moments turns at `|ω|` always.
+/// The same `W` as `free_rotation::orbit_max_omega`, which reads it from an
+/// asymmetric body's split coefficients; RK4 has none, and takes every class.
 pub fn orbit_max_rate(wb: &Vec3, i0: &Vec3) -> f64 {
     let x: [f64; 3] = std::array::from_fn(|j| (i0[j] * wb[j]).powi(2));
     let (l2, e2) = (x.iter().sum::<f64>(), (0..3).map(|j| x[j] / i0[j]).sum::<f64>());

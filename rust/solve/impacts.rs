@@ -169,9 +169,7 @@ impl ContactSolver {
         if !self.bodies[s as usize].dynamic {
             return Vec3::zeros();
         }
-        let i = i as usize;
-        let f = if src.force { Vec3::from(b.force[i]) * b.inv_mass[i] } else { Vec3::zeros() };
-        src.gravity + f
+        src.acceleration(b, i as usize)
     }
 
     /// Friction impulse of an impact of total normal impulse `jn` on constraint

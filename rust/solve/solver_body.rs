@@ -101,7 +101,8 @@ pub const MAX_CHORD: f64 = 0.02;
 
 /// The [`chord`](SolverBody::chord) of a body turning `turn` (rad) in a substep.
 pub fn chord(turn: Vec3) -> Vec3 {
-    if turn.norm() > MIN_CHORD && turn.norm() <= MAX_CHORD {
+    let angle = turn.norm();
+    if angle > MIN_CHORD && angle <= MAX_CHORD {
         turn
     } else {
         Vec3::zeros()

@@ -16,17 +16,16 @@ from test_pile_launch import lattice
 POURS = (1, 2, 3, 4)
 
 PILES_CREEP = (
-    "tumbled piles do not all come to rest: after 30 s at the defaults, 18 / 12 / 0 / 10 cubes of "
-    "pours 1-4 move faster than 1 mm/s (fastest 1.1e-2 / 1.4e-2 / 2.3e-8 / 2.6e-3 m/s), and with sleeping off "
-    "19 / 25 / 0 / 1 of pours 1-4. In pour 2 a cube standing on a column (351 on 251) is pushed "
-    "sideways by a cube leaning on its side (361, 282 N through one corner): the column's support "
-    "contacts are solved as blocks, exactly, the leaning corner by one soft Gauss-Seidel pass a "
-    "substep between two moving bodies, and the two never agree: the cube keeps moving at 1-3 mm/s "
-    "and once in a few steps the whole column under it is kicked at 1e-3 m/s. The world then takes "
-    "16 rocking substeps for ever. The same state rebuilt without its warm starts stays at rest. "
-    "Solving that corner rigidly instead (the law of contacts with fixed bodies) left 147 cubes "
-    "moving in 12 pours instead of 209, but pressed box into box 0.36-0.61 mm instead of "
-    "0.01-0.33 mm: not kept."
+    "tumbled piles do not all come to rest: after 30 s at the defaults 5 / 0 / 0 / 7 cubes of pours "
+    "1-4 move faster than 1 mm/s (fastest 6.8e-3 / 6.9e-4 / 5.2e-6 / 1.8e-2 m/s); with sleeping off "
+    "7 / 4 / 0 / 3 / 5 / 31 of pours 1-6. Before a settling pile took a second solver iteration "
+    "(rust/solve/second_pass.rs): 18 / 12 / 0 / 10 at the defaults, 19 / 25 / 0 / 1 / 43 / 35 "
+    "with sleeping off. The mechanism found in pour 2: a cube leaning through one corner on a "
+    "column's top cube (361 on 351, 282 N) slid 14 mm in 10 s with both its contacts inside their "
+    "friction cones (|f|/N 0.27 and 0.08 at mu 0.5), the column's support contacts solved as blocks, "
+    "exactly, the leaning corner by one Gauss-Seidel pass a substep; with the second iteration it "
+    "slides 1.9 mm in 10 s. Solving that corner rigidly instead of softly left 147 cubes moving in "
+    "12 pours instead of 209 but pressed box into box 0.36-0.61 mm instead of 0.01-0.33 mm: not kept."
 )
 
 

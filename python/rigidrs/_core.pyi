@@ -447,7 +447,8 @@ class Scene:
         tells what was chosen; unless given, a step with contacts takes substeps of at most
         1/960 s (16 at 60 Hz) while a slow body rocks on its supports in a settling scene, see
         ``World.last_substeps``); ``iterations`` contact-solver and joint iterations per substep
-        (default 1). Contacts: ``restitution_threshold``
+        (default 1; a step of a settling pile, where support contacts meet contacts between
+        moving bodies beside them, takes at least 2 contact iterations). Contacts: ``restitution_threshold``
         (m/s, approach speed below which nothing bounces, 0 allowed; default None: twice the
         speed gravity gives in a contact substep, ``2 |g| dt / substeps``, 0.08 m/s at 60 Hz and
         4 substeps, 0 without gravity: a resting contact does not bounce, a landing does), ``slop``

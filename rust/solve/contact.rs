@@ -214,6 +214,10 @@ pub struct ContactSolver {
     /// This step's groups of bodies in contact (see `super::contact_groups`).
     #[serde(skip)]
     pub(crate) groups: super::contact_groups::Groups,
+    /// Whether every awake body was slow at this step's start (see
+    /// `super::second_pass`; found only in a world with support blocks).
+    #[serde(skip)]
+    pub(crate) settling_now: bool,
 }
 
 /// Any unit vector orthogonal to `n`.

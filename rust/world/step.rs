@@ -124,7 +124,10 @@ impl World {
     fn rocking_substeps(&mut self) -> u32 {
         let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
         let Some(c) = self.collision.as_mut() else { return self.substeps };
-        let settling = c.solver.support.rocking.seen && c.solver.settling(&self.bodies);
+        let solver = &c.solver;
+        c.solver.settling_now =
+            !solver.support.blocks.is_empty() && solver.settling(&self.bodies) && solver.creeping(&self.bodies);
+        let settling = c.solver.support.rocking.seen && c.solver.settling_now;
         c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling)
     }
 
@@ -248,9 +251,22 @@ impl World {
                 s.warm_start();
                 s.warm_start_links();
             }),
-            StageKind::Friction { relax } => self.with_solver(|s, _| {
-                s.solve_friction(relax);
-            }),
+            StageKind::Friction { relax } => {
+                let planned = self.settings.iterations;
+                self.with_solver(|s, _| {
+                    s.solve_friction(relax);
+                    // A pile's further iterations (see `solve::second_pass`),
+                    // each as the planned Normal and Friction stages run it.
+                    for _ in 0..s.extra_iterations(planned) {
+                        if relax {
+                            s.correct_positions(h);
+                        }
+                        s.solve_normal(relax);
+                        s.solve_links(relax);
+                        s.solve_friction(relax);
+                    }
+                });
+            }
             StageKind::Normal { relax } => self.with_solver(|s, _| {
                 if relax {
                     s.correct_positions(h);

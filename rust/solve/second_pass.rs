@@ -33,17 +33,25 @@
 
 use super::contact::ContactSolver;
 use super::solver_body::Surface;
+use crate::body::Bodies;
 
 /// Iterations a step of a pile takes at least.
 const PILE_ITERATIONS: u32 = 2;
 
 impl ContactSolver {
+    /// Notes at a step's start, from the world's bodies `b`, whether the
+    /// scene is settling and something still creeps (only where there are
+    /// support blocks: the rest never take a second iteration).
+    pub fn note_settling(&mut self, b: &Bodies) {
+        self.settling_now = !self.support.blocks.is_empty() && self.settling(b) && self.creeping(b);
+    }
+
     /// Whether some awake body of the world `b` moves faster than the
     /// residual the support sweeps take as solved: a pile at rest, to
     /// round-off, keeps one iteration (a second one echoed a grid of cubes
     /// resting edge to edge from 1e-15 to 3e-10 m/s,
     /// `tests/test_crate_grid.py`).
-    pub fn creeping(&self, b: &crate::body::Bodies) -> bool {
+    fn creeping(&self, b: &Bodies) -> bool {
         let fast2 = self.support.residual * self.support.residual;
         (0..b.len()).filter(|&i| b.awake(i)).any(|i| {
             let [x, y, z] = b.linear_velocity[i];
@@ -69,10 +77,8 @@ impl ContactSolver {
             return false;
         }
         self.ordinary.iter().any(|&ci| {
-            let Some(c) = self.constraints.get(ci as usize) else { return false };
-            let (Some(a), Some(b)) = (self.bodies.get(c.s1 as usize), self.bodies.get(c.s2 as usize)) else {
-                return false;
-            };
+            let c = &self.constraints[ci as usize];
+            let (a, b) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
             a.dynamic && b.dynamic && !(a.surface == Surface::Ball && b.surface == Surface::Ball)
         })
     }

@@ -124,9 +124,7 @@ impl World {
     fn rocking_substeps(&mut self) -> u32 {
         let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
         let Some(c) = self.collision.as_mut() else { return self.substeps };
-        let solver = &c.solver;
-        c.solver.settling_now =
-            !solver.support.blocks.is_empty() && solver.settling(&self.bodies) && solver.creeping(&self.bodies);
+        c.solver.note_settling(&self.bodies);
         let settling = c.solver.support.rocking.seen && c.solver.settling_now;
         c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling)
     }
@@ -258,22 +256,12 @@ impl World {
                     // A pile's further iterations (see `solve::second_pass`),
                     // each as the planned Normal and Friction stages run it.
                     for _ in 0..s.extra_iterations(planned) {
-                        if relax {
-                            s.correct_positions(h);
-                        }
-                        s.solve_normal(relax);
-                        s.solve_links(relax);
+                        normal_pass(s, relax, h);
                         s.solve_friction(relax);
                     }
                 });
             }
-            StageKind::Normal { relax } => self.with_solver(|s, _| {
-                if relax {
-                    s.correct_positions(h);
-                }
-                s.solve_normal(relax);
-                s.solve_links(relax);
-            }),
+            StageKind::Normal { relax } => self.with_solver(|s, _| normal_pass(s, relax, h)),
             StageKind::Ccd => {
                 if let Some(c) = self.collision.as_mut() {
                     c.ccd_stage(&mut self.bodies);
@@ -398,6 +386,16 @@ fn move_kinematic(b: &mut Bodies, list: &[u32], h: f64) {
             b.orientation[i] = quat::to_xyzw(&(q / q.norm()));
         }
     }
+}
+
+/// What a `Normal` stage does: in a relax pass the positions first, then the
+/// normals of the contacts and of the articulations' links.
+fn normal_pass(s: &mut crate::solve::ContactSolver, relax: bool, h: f64) {
+    if relax {
+        s.correct_positions(h);
+    }
+    s.solve_normal(relax);
+    s.solve_links(relax);
 }
 
 /// Records the velocities the kick gave the bodies of `list` (see

@@ -16,9 +16,13 @@ from test_pile_launch import lattice
 POURS = (1, 2, 3, 4)
 
 PILES_CREEP = (
-    "tumbled piles do not all come to rest: after 30 s at the defaults 5 / 0 / 0 / 7 cubes of pours "
-    "1-4 move faster than 1 mm/s (fastest 6.8e-3 / 6.9e-4 / 5.2e-6 / 1.8e-2 m/s); with sleeping off "
-    "7 / 4 / 0 / 3 / 5 / 31 of pours 1-6. Before a settling pile took a second solver iteration "
+    "tumbled piles do not all come to rest: after 30 s at the defaults 2 / 0 / 3 / 3 cubes of pours "
+    "1-4 move faster than 1 mm/s (fastest 2.6e-3 / 2.9e-4 / 2.2e-3 / 2.2e-3 m/s); with sleeping off "
+    "3 / 0 / 5 / 4 of pours 1-4. Before a block's projected Gauss-Seidel stopped once a sweep moved "
+    "no row by the residual taken as solved: 5 / 0 / 0 / 7 (fastest 6.8e-3 / 6.9e-4 / 5.2e-6 / "
+    "1.8e-2 m/s), sleeping off 7 / 4 / 0 / 3. Pour 4's column 9-109-209-309, its top leaning on "
+    "cube 308 and sliding down its face on the friction cone, crept 1.2 mm in 10 s on the floor "
+    "with |f|/N 0.014 there. Before a settling pile took a second solver iteration "
     "(rust/solve/second_pass.rs): 18 / 12 / 0 / 10 at the defaults, 19 / 25 / 0 / 1 / 43 / 35 "
     "with sleeping off. The mechanism found in pour 2: a cube leaning through one corner on a "
     "column's top cube (361 on 351, 282 N) slid 14 mm in 10 s with both its contacts inside their "

@@ -115,8 +115,10 @@ impl ContactSolver {
         }
         // A residual this small is solved: round-off of the block's largest.
         let quiet = 1e-12 * r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let settled = self.support.residual;
         for _ in 0..PGS_SWEEPS {
             before.copy_from_slice(y);
+            let start = (dv, dw);
             let mut i = 0;
             while i < m {
                 let face = rows[i].face;
@@ -203,15 +205,26 @@ impl ContactSolver {
                 }
             }
             // A sweep that changed no impulse has converged: the sweeps left
-            // would repeat it. (Stopping once the changes were below the
-            // residual taken as solved, 1e-6 g h, let a box on a 40° incline
-            // slide 3–4 % fast: a sliding patch's Coulomb force follows its
-            // slip, which the later sweeps still correct.)
-            if y == before {
+            // would repeat it. So has one that moved no row by the residual
+            // the island sweeps take as solved (1e-6 g h): the impulses of a
+            // face's dependent points may still wander, but nothing a row sees
+            // (94 % of a tumbling pile's solves ran all twelve sweeps, most of
+            // them still changing their impulses by 1e-6 of their size; a
+            // settling 400-cube pile's 400 steps took 15 % less time). Measured
+            // on the impulses instead, before a sliding patch read Coulomb's
+            // law implicitly, the same bound let a box on a 40° incline slide
+            // 3–4 % fast (`tests/test_friction.py` holds it now).
+            if y == before || moved_less(rows, (dv - start.0, dw - start.1), settled) {
                 break;
             }
         }
     }
+}
+
+/// Whether the change `(dv, dw)` of the upper body in one sweep moves every
+/// row by less than `settled` (m/s).
+fn moved_less(rows: &[super::block::Row], (dv, dw): (Vec3, Vec3), settled: f64) -> bool {
+    rows.iter().all(|r| (r.ju[0].dot(&dv) + r.ju[1].dot(&dw)).abs() < settled)
 }
 
 /// What one solve of a patch's friction can do to its slip: the diagonal of

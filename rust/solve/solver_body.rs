@@ -418,7 +418,9 @@ impl ContactSolver {
             s.chord = turn;
             s.dp = Vec3::from(b.position[i]) - self.p0[k];
             s.dq = b.q(i) * self.q0[k].conjugate();
-            let turned = (s.dq - s.dq_ref).norm();
+            // A ball's contact geometry does not turn with it (its points stay
+            // under its centre, `chord_gap` is zero): only its translation counts.
+            let turned = if s.surface == Surface::Ball { 0.0 } else { (s.dq - s.dq_ref).norm() };
             s.moved = later && ((s.dp - s.dp_ref).norm() > MOVE_EPS || turned > MOVE_EPS || new_turn);
             if s.moved {
                 s.dp_ref = s.dp;

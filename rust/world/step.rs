@@ -126,7 +126,8 @@ impl World {
         let Some(c) = self.collision.as_mut() else { return self.substeps };
         c.solver.note_settling(&self.bodies);
         let settling = c.solver.support.rocking.seen && c.solver.settling_now;
-        c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling)
+        let in_motion = c.solver.support.rocking.hold > 0 && !c.solver.settling(&self.bodies);
+        c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling, in_motion)
     }
 
     /// What every `step` call does once after its steps: the joint coordinates

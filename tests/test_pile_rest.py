@@ -16,26 +16,18 @@ from test_pile_launch import lattice
 POURS = (1, 2, 3, 4)
 
 PILES_CREEP = (
-    "tumbled piles do not all come to rest: after 30 s at the defaults 2 / 0 / 3 / 3 cubes of pours "
-    "1-4 move faster than 1 mm/s (fastest 2.6e-3 / 2.9e-4 / 2.2e-3 / 2.2e-3 m/s); with sleeping off "
-    "3 / 0 / 5 / 4 of pours 1-4. Before a block's projected Gauss-Seidel stopped once a sweep moved "
-    "no row by the residual taken as solved: 5 / 0 / 0 / 7 (fastest 6.8e-3 / 6.9e-4 / 5.2e-6 / "
-    "1.8e-2 m/s), sleeping off 7 / 4 / 0 / 3. Pour 4's column 9-109-209-309, its top leaning on "
-    "cube 308 and sliding down its face on the friction cone, crept 1.2 mm in 10 s on the floor "
-    "with |f|/N 0.014 there. Between 30 and 60 s cubes still creep (pour 4's cube 390, wedged in a "
-    "V between a corner of 280 and an edge of 290 at |f|/N 0.42 and 0.29, sank 0.6 mm/s with a "
-    "jitter of a few um a step for 27 s and fell 0.6 m; pours 1-6 had 8-57 cubes drift more than "
-    "0.1 mm). Pour 1's state at 40 s, when a pile that rocks again right after being given back its "
-    "4 substeps is held at the rocking substeps twice as long (rust/solve/rocking.rs), not every "
-    "31 steps: 13 -> 3 cubes drifting more than 0.1 mm over 10 s. Before a settling pile took a "
-    "second solver iteration "
-    "(rust/solve/second_pass.rs): 18 / 12 / 0 / 10 at the defaults, 19 / 25 / 0 / 1 / 43 / 35 "
-    "with sleeping off. The mechanism found in pour 2: a cube leaning through one corner on a "
-    "column's top cube (361 on 351, 282 N) slid 14 mm in 10 s with both its contacts inside their "
-    "friction cones (|f|/N 0.27 and 0.08 at mu 0.5), the column's support contacts solved as blocks, "
-    "exactly, the leaning corner by one Gauss-Seidel pass a substep; with the second iteration it "
-    "slides 1.9 mm in 10 s. Solving that corner rigidly instead of softly left 147 cubes moving in "
-    "12 pours instead of 209 but pressed box into box 0.36-0.61 mm instead of 0.01-0.33 mm: not kept."
+    "tumbled piles do not all come to rest: after 30 s at the defaults 0 / 3 / 0 / 0 cubes of pours "
+    "1-4 move faster than 1 mm/s (fastest 1.7e-12 / 4.0e-3 / 3.3e-13 / 6.2e-9 m/s; sleeping off the "
+    "same counts); of pours 1-6, 0 / 2 / 0 / 0 / 6 / 5 still move at 60 s. Before a patch's friction "
+    "shares were cleared from points beyond the prediction (solve/contact.rs finish: a stale share "
+    "pushed pour 4's cube 390, wedged in a V between cubes 280 and 290 at |f|/N 0.42 and 0.29, down "
+    "the groove at 0.6 mm/s until it fell 0.6 m): 2 / 0 / 2 / 5 at 30 s, 8 / 0 / 1 / 7 / 21 / 7 at 60 s. "
+    "Before a block's projected Gauss-Seidel stopped once its rows' velocities had converged: "
+    "5 / 0 / 0 / 7; before a settling pile took a second solver iteration: 18 / 12 / 0 / 10. Pour 2's "
+    "mechanism, found at stop 42: a cube leaning through one corner on a column's top cube (361 on "
+    "351, 282 N) slid 14 mm in 10 s with both its contacts inside their friction cones, the column's "
+    "support contacts solved as blocks, exactly, the leaning corner by one Gauss-Seidel pass a "
+    "substep (1.9 mm in 10 s with the second iteration)."
 )
 
 

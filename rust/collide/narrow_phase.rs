@@ -92,6 +92,14 @@ impl PairState {
         }
     }
 
+    /// Drops what the solver stored in the points beyond the pair's prediction:
+    /// they were not contacts this step, so they carry nothing into the next.
+    pub fn forget_beyond_reach(&mut self) {
+        let reach = self.prediction;
+        let points = self.manifolds.iter_mut().flat_map(|m| m.points.iter_mut()).chain(self.ball.as_mut().map(|b| &mut b.point));
+        points.filter(|tp| !(tp.dist <= reach)).for_each(|tp| tp.data = ContactData::default());
+    }
+
     /// The points of manifold `index` (see [`PairState::contacts`]), to store what
     /// the solver carries to the next step.
     pub fn points_mut(&mut self, index: u32) -> Option<&mut [Tracked]> {
@@ -568,3 +576,7 @@ pub struct ContactReport {
     /// Friction impulse over the step, world (N·s).
     pub friction_impulse: [f64; 3],
 }
+
+#[cfg(test)]
+#[path = "narrow_phase_tests.rs"]
+mod tests;

@@ -52,16 +52,20 @@ const MAX_RELAPSES: u32 = 6;
 
 /// What the velocity passes of a step saw, and how many more steps take
 /// the rocking substeps.
-#[derive(Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub struct Rocking {
     pub seen: bool,
     pub hold: u32,
     /// Doublings of the next hold (see [`Rocking::substeps`]).
     pub relapses: u32,
-    /// Whether the substeps were given back less than a hold ago, and the
-    /// steps taken since.
-    pub probing: bool,
+    /// Steps since the substeps were last given back (`u32::MAX`: never).
     pub since: u32,
+}
+
+impl Default for Rocking {
+    fn default() -> Self {
+        Rocking { seen: false, hold: 0, relapses: 0, since: u32::MAX }
+    }
 }
 
 impl Rocking {
@@ -82,8 +86,7 @@ impl Rocking {
         let one = (HOLD / dt).ceil().clamp(1.0, u32::MAX as f64) as u32;
         if std::mem::take(&mut self.seen) && settling && !fixed {
             if self.hold == 0 {
-                let relapse = self.probing && self.since < one;
-                self.relapses = if relapse { (self.relapses + 1).min(MAX_RELAPSES) } else { 0 };
+                self.relapses = if self.since < one { (self.relapses + 1).min(MAX_RELAPSES) } else { 0 };
             }
             self.hold = one.saturating_mul(1 << self.relapses);
         }
@@ -93,12 +96,11 @@ impl Rocking {
         }
         if self.hold == 0 {
             self.since = self.since.saturating_add(1);
-            self.probing &= self.since < one;
             return base;
         }
         self.hold -= 1;
         if self.hold == 0 {
-            (self.probing, self.since) = (true, 0);
+            self.since = 0;
         }
         base.max(rocking_substeps(dt))
     }

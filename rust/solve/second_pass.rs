@@ -39,11 +39,12 @@ use crate::body::Bodies;
 const PILE_ITERATIONS: u32 = 2;
 
 impl ContactSolver {
-    /// Notes at a step's start, from the world's bodies `b`, whether the
-    /// scene is settling and something still creeps (only where there are
-    /// support blocks: the rest never take a second iteration).
-    pub fn note_settling(&mut self, b: &Bodies) {
-        self.settling_now = !self.support.blocks.is_empty() && self.settling(b) && self.creeping(b);
+    /// Notes at a step's start, from the world's bodies `b` and whether they
+    /// are all slow (`slow`, [`ContactSolver::settling`]), whether the scene is
+    /// settling and something still creeps (only where there are support
+    /// blocks: the rest never take a second iteration).
+    pub fn note_settling(&mut self, b: &Bodies, slow: bool) {
+        self.settling_now = !self.support.blocks.is_empty() && slow && self.creeping(b);
     }
 
     /// Whether some awake body of the world `b` moves faster than the

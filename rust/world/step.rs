@@ -124,9 +124,13 @@ impl World {
     fn rocking_substeps(&mut self) -> u32 {
         let (fixed, dt) = (self.settings.substeps.is_some(), self.settings.dt);
         let Some(c) = self.collision.as_mut() else { return self.substeps };
-        c.solver.note_settling(&self.bodies);
+        // Whether every body is slow, looked at once (a pass over the bodies)
+        // and only where it matters: support blocks, or rocking substeps held.
+        let holding = c.solver.support.rocking.hold > 0;
+        let slow = (!c.solver.support.blocks.is_empty() || holding) && c.solver.settling(&self.bodies);
+        c.solver.note_settling(&self.bodies, slow);
         let settling = c.solver.support.rocking.seen && c.solver.settling_now;
-        let in_motion = c.solver.support.rocking.hold > 0 && !c.solver.settling(&self.bodies);
+        let in_motion = holding && !slow;
         c.solver.support.rocking.substeps(self.substeps, dt, fixed, settling, in_motion)
     }
 

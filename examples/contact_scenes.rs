@@ -1,6 +1,6 @@
 //! The pyramid and ball-pit scenes of `benches/peers/` built in Rust, stepped and
 //! timed without Python in the way: a target for `perf record` when working on the
-//! contact pipeline. `cargo run --release --example contact_scenes [pyramid|pyramid_40|ball_pit|ball_pit_300|ball_pit_3000|box_pile|box_pile_4000] [steps]`
+//! contact pipeline. `cargo run --release --example contact_scenes [pyramid|pyramid_30|pyramid_35|pyramid_40|pyramid_50|ball_pit|ball_pit_300|ball_pit_3000|box_pile|box_pile_4000] [steps]`
 //! (`WINDOW=50` in the environment: time and stage profile every 50 steps).
 use rigidrs::body::Shape;
 use rigidrs::world::{BodySpec, Scene, Settings, World};
@@ -128,6 +128,9 @@ fn main() {
         "box_pile" => box_pile(10, 4),
         "box_pile_4000" => box_pile(20, 10),
         "pyramid_40" => pyramid(40),
+        "pyramid_30" => pyramid(30),
+        "pyramid_35" => pyramid(35),
+        "pyramid_50" => pyramid(50),
         _ => pyramid(20),
     };
     let t = Instant::now();

@@ -153,11 +153,20 @@ enum Found {
 /// sweep in parallel goes there anyway: see `solve::island_sweeps`). Measured
 /// on two cores: a step handed to the pool pays the hand-offs, the pool's
 /// idle spinning beside the serial solve and the reading of what one thread
-/// wrote from the other's cache. On two threads against one, with the step
-/// on the pool from 1024 pairs: the 210-box pyramid (400 pairs) 0.8×, the
-/// 820-box pyramid (1600) 0.83×, the 1000-ball pit (2900) 0.88×, a
-/// 3000-ball pit (8400) 0.99–1.03×.
+/// wrote from the other's cache. A 1000-ball pit (2900 pairs, 2550 of them two
+/// balls) stepped 0.88–1.0× its one-thread speed on the pool, a 3000-ball pit
+/// (8400) 0.99–1.09×.
 pub const MIN_PARALLEL_PAIRS: usize = 8192;
+
+/// Touching pairs of shapes other than two balls from which a step runs on
+/// the pool too: parry clips their manifolds (a microsecond or more a pair,
+/// where two balls' contact takes tens of nanoseconds) and each carries up to
+/// four points to build, so their share of a step worth splitting comes at
+/// far fewer pairs. Measured on two cores (`examples/contact_scenes.rs`, the
+/// step on the pool against one thread, 2026-12-05): pyramids of 210 boxes
+/// (400 such pairs) 0.98–1.0×, of 465 (900) 1.1×, of 630 (1225) 1.14×, of
+/// 820 (1600) 1.12–1.18×, of 1275 (2500) 1.3×; the 1000-ball pit (350) 0.9–1.0×.
+pub const MIN_PARALLEL_MANIFOLD_PAIRS: usize = 640;
 /// Pairs handed to a thread at a time.
 const PAIRS_PER_TASK: usize = 64;
 
@@ -290,6 +299,12 @@ impl NarrowPhase {
             self.keep_if(dormant(k.0, k.1), k, slot);
         }
         self.spare = last;
+    }
+
+    /// How many pairs touched at the last update whose shapes are not two
+    /// balls (see [`MIN_PARALLEL_MANIFOLD_PAIRS`]).
+    pub fn manifold_pairs(&self) -> usize {
+        self.touching.iter().filter(|&&s| self.pairs.get(s as usize).is_some_and(|p| p.ball.is_none())).count()
     }
 
     /// How many pairs are kept.

@@ -86,11 +86,12 @@ impl World {
 
     /// Whether the last step had contact work enough to split over threads:
     /// support islands to sweep side by side (see `solve::island_sweeps`), or
-    /// so many contact pairs that their narrow phase and constraints' build
-    /// are worth the hand-offs.
+    /// so many contact pairs (or pairs whose manifolds parry clips) that their
+    /// narrow phase and constraints' build are worth the hand-offs.
     fn worth_splitting(&self) -> bool {
+        use crate::collide::narrow_phase::{MIN_PARALLEL_MANIFOLD_PAIRS, MIN_PARALLEL_PAIRS};
         self.collision.as_ref().is_some_and(|c| {
-            c.solver.islands_were_split() || c.narrow.len() >= crate::collide::narrow_phase::MIN_PARALLEL_PAIRS
+            c.solver.islands_were_split() || c.narrow.len() >= MIN_PARALLEL_PAIRS || c.narrow.manifold_pairs() >= MIN_PARALLEL_MANIFOLD_PAIRS
         })
     }
 

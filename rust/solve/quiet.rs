@@ -237,14 +237,15 @@ impl ContactSolver {
     pub(crate) fn bound_blocks(&mut self) {
         let rest = REST_DEPTH * self.settings.slop;
         let s = &mut self.support;
-        for b in &mut s.blocks {
+        let (rows, points) = (&s.rows, &self.points);
+        let bound = |b: &mut super::block::Block| {
             // The longest arm squared: one square root a block, not four a row
             // (the same bits: a square root is monotone and correctly rounded).
             let (mut low, mut high, mut arm2) = (f64::INFINITY, f64::NEG_INFINITY, 1.0f64);
-            for r in &s.rows[b.rows.0 as usize..b.rows.1 as usize] {
+            for r in &rows[b.rows.0 as usize..b.rows.1 as usize] {
                 arm2 = arm2.max(r.ju[1].norm_squared()).max(r.jl[1].norm_squared());
                 if let RowKind::Normal(pi) = r.kind {
-                    let p = &self.points[pi as usize];
+                    let p = &points[pi as usize];
                     let sep = p.separation + rest;
                     (low, high) = (low.min(sep), high.max(sep));
                     arm2 = arm2.max(p.anchor1.norm_squared()).max(p.anchor2.norm_squared());
@@ -252,6 +253,13 @@ impl ContactSolver {
             }
             // The arms follow the bodies within the kept geometry's tolerance.
             (b.low, b.high, b.arm) = (low, high, arm2.sqrt() * (1.0 + ARM_SLACK) + super::solver_body::MOVE_EPS);
+        };
+        // Each block from its own rows: the same bits on any thread.
+        if self.parallel && s.blocks.len() >= super::support::MIN_PARALLEL_PLAN {
+            use rayon::prelude::*;
+            s.blocks.par_iter_mut().with_min_len(super::support::PER_TASK).for_each(bound);
+        } else {
+            s.blocks.iter_mut().for_each(bound);
         }
     }
 

@@ -80,6 +80,12 @@ const REST_CLOSING: f64 = 2.0;
 /// guess where the two tumble.
 const LANDING: f64 = 64.0;
 
+/// Constraints from which, in a step on the pool, their settled states (and
+/// the blocks' bounds, see `super::quiet`) are found over threads; and how
+/// many a thread takes at a time.
+pub(super) const MIN_PARALLEL_PLAN: usize = 256;
+pub(super) const PER_TASK: usize = 64;
+
 /// The support blocks of a step, bottom up, and the sweeps' scratch space.
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Support {
@@ -182,13 +188,25 @@ impl ContactSolver {
         let speed = SETTLED * gh + closing;
         let landing = speed.max(LANDING * gravity / self.inv_h);
         let faces = self.faces_below(up);
-        for ci in 0..self.constraints.len() {
+        let state = |ci: usize| {
             let c = &self.constraints[ci];
             let sole = c.len >= 3 && self.upper_of(ci, up).is_some_and(|u| faces[u as usize] == 1);
             let slow = self.settled(ci, b, speed);
             let settled = slow || (sole && self.lands_flat(ci, b, speed, landing));
-            self.constraints[ci].settled = settled;
-            self.constraints[ci].landing = settled && !slow;
+            (settled, settled && !slow)
+        };
+        // Each constraint's state from its own points and bodies: the same
+        // on any thread.
+        let n = self.constraints.len();
+        let states: Vec<(bool, bool)> = if self.parallel && n >= MIN_PARALLEL_PLAN {
+            use rayon::prelude::*;
+            (0..n).into_par_iter().with_min_len(PER_TASK).map(state).collect()
+        } else {
+            (0..n).map(state).collect()
+        };
+        for (c, (settled, landing)) in self.constraints.iter_mut().zip(states) {
+            c.settled = settled;
+            c.landing = landing;
         }
         if self.plan_unchanged() {
             self.restore_plan();

@@ -8,6 +8,7 @@ pub mod cylinder_cap;
 pub mod collider;
 pub mod corners;
 mod face_clip;
+pub mod fat_pairs;
 mod internal_edges;
 pub mod face_points;
 pub mod material;

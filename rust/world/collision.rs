@@ -9,6 +9,7 @@ use super::Settings;
 use crate::body::{BodyKind, Bodies};
 use crate::collide::broad_phase::{Aabb, HalfSpace, SweepAndPrune};
 use crate::collide::ccd::{self, Start};
+use crate::collide::fat_pairs::{self, Changes};
 use crate::collide::narrow_phase::{supported, ContactReport, NarrowPhase, Prediction};
 use crate::collide::{Collider, Filter};
 use crate::error::{Error, Result};
@@ -36,6 +37,9 @@ pub struct Collision {
     /// Scratch for merging the half-space pairs into the candidates.
     #[serde(skip)]
     merged: Vec<(u32, u32)>,
+    /// The fat boxes changed in a call, and scratch for the update of their pairs.
+    #[serde(skip)]
+    changes: Changes,
     pub narrow: NarrowPhase,
     pub solver: ContactSolver,
     pub islands: Islands,
@@ -129,6 +133,7 @@ impl Collision {
             sap: SweepAndPrune::default(),
             candidates: Vec::new(),
             merged: Vec::new(),
+            changes: Changes::default(),
             narrow: NarrowPhase::default(),
             solver: ContactSolver::new(n, settings.solver),
             islands: Islands::new(n),
@@ -150,7 +155,8 @@ impl Collision {
             self.record_ccd_start(b);
             return;
         }
-        let mut moved_out = self.sap_pairs.is_empty() && self.fat.iter().all(|f| *f == Aabb::default());
+        let sweep = self.sap_pairs.is_empty() && self.fat.iter().all(|f| *f == Aabb::default());
+        self.changes.boxes.clear();
         for &k in &self.finite {
             let c = &self.colliders[k as usize];
             let i = c.body as usize;
@@ -183,20 +189,22 @@ impl Collision {
             let fat = &mut self.fat[k as usize];
             if !a.inside(fat) || fat.slack(&a) > 4.0 * grow {
                 *fat = a.loosened(grow);
-                moved_out = true;
+                self.changes.boxes.push(k);
             }
         }
         // The pairs of fat boxes change only when a body leaves its fat box: a scene
         // that moves in place (bodies spinning, settling, at rest) sorts nothing.
-        if moved_out {
+        let (cols, jointed) = (&self.colliders, &self.jointed);
+        let keep = |i: u32, j: u32| may_touch(cols, i, j, jointed);
+        if sweep || !self.changes.few(self.finite.len()) {
             self.sap_pairs.clear();
-            let (cols, jointed) = (&self.colliders, &self.jointed);
-            let keep = |i: u32, j: u32| may_touch(cols, i, j, jointed);
             self.sap.pairs(&self.fat, &self.finite, keep, &mut self.sap_pairs);
             // Sorted once per rebuild, not once per step (the candidates'
             // sort was 3 % of a settled ball pit's step): the candidates
             // below are filtered from them in order.
             self.sap_pairs.sort_unstable();
+        } else if !self.changes.boxes.is_empty() {
+            self.changes.update(&mut self.sap_pairs, &self.fat, &self.finite, keep);
         }
         self.candidates.clear();
         let (cols, boxes) = (&self.colliders, &self.boxes);
@@ -221,7 +229,7 @@ impl Collision {
         }
         if self.candidates.len() > finite {
             self.candidates[finite..].sort_unstable();
-            merge_sorted(&mut self.candidates, finite, &mut self.merged);
+            fat_pairs::merge_sorted(&mut self.candidates, finite, &mut self.merged);
         }
         self.record_ccd_start(b);
     }
@@ -291,26 +299,6 @@ pub struct NarrowStep {
     /// Worker threads the pairs may be stepped on (same bits for every count);
     /// more than one only on the pool's threads (the caller installed it).
     pub threads: usize,
-}
-
-/// Merges the sorted runs `v[..mid]` and `v[mid..]` of `v` in place (through
-/// `scratch`).
-fn merge_sorted(v: &mut Vec<(u32, u32)>, mid: usize, scratch: &mut Vec<(u32, u32)>) {
-    scratch.clear();
-    let (a, b) = v.split_at(mid);
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if b[j] < a[i] {
-            scratch.push(b[j]);
-            j += 1;
-        } else {
-            scratch.push(a[i]);
-            i += 1;
-        }
-    }
-    scratch.extend_from_slice(&a[i..]);
-    scratch.extend_from_slice(&b[j..]);
-    std::mem::swap(v, scratch);
 }
 
 /// Rotation per step (rad) above which a body's box is that of its reach.

@@ -107,6 +107,10 @@ pub struct Point {
     pub normal_mass: f64,
     /// Accumulated normal impulse of the current substep (N·s).
     pub normal_impulse: f64,
+    /// How much further (m) the separation falls in the substep than its
+    /// normal velocity carries it, on a rounded side (see
+    /// [`super::rounded_curve`]); 0 elsewhere.
+    pub curve: f64,
     /// Normal impulse summed over the step, for reporting (N·s).
     pub total_normal: f64,
     /// Index of its manifold in the pair (a constraint may gather several:

@@ -37,7 +37,7 @@ pub(crate) struct Rule {
     /// [`Rule::law`]).
     pair: Softness,
     max_push: f64,
-    inv_h: f64,
+    pub(crate) inv_h: f64,
     /// Depth at which a resting contact settles (m): see [`REST_DEPTH`].
     rest: f64,
     pub(crate) relax: bool,
@@ -257,7 +257,7 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
             let Some(law) = rule.law(rule.effective(gap.separation(p)), moving) else {
                 continue;
             };
-            let imp = law.impulse(pair.normal_velocity(c, p), p);
+            let imp = law.impulse(pair.normal_velocity(c, p) + p.curve * rule.inv_h, p);
             let total = (p.normal_impulse + imp).max(0.0);
             let delta = total - p.normal_impulse;
             p.normal_impulse = total;
@@ -324,7 +324,7 @@ fn solve_together(c: &Constraint, pts: &mut [Point], pair: &mut Pair, gap: &Gap,
         }
         // `K x + b = 0` at the new impulses `x` of the points that push.
         let held: f64 = (0..n).map(|c2| k[a * n + c2] * pts[idx[c2]].normal_impulse).sum();
-        b[a] = law.mass_scale * (pair.normal_velocity(c, pa) + law.bias) - (1.0 - law.impulse_scale) * held;
+        b[a] = law.mass_scale * (pair.normal_velocity(c, pa) + pa.curve * rule.inv_h + law.bias) - (1.0 - law.impulse_scale) * held;
     }
     if !small_lcp(&k[..n * n], &b[..n], &mut x[..n]) {
         return false;

@@ -30,6 +30,7 @@ pub mod solver_body;
 pub mod warm_guard;
 pub mod release;
 pub mod reuse;
+mod rounded_curve;
 pub mod second_pass;
 pub mod rocking;
 pub mod small_lcp;

@@ -118,7 +118,7 @@ impl Rounding {
     /// plus `r` across: along `n` for a capsule, `u` the normal's part across
     /// the axis for a cylinder. 0 at the step start.
     #[inline]
-    fn gap_change(&self, back: &Vec3, n: &Vec3) -> f64 {
+    pub(super) fn gap_change(&self, back: &Vec3, n: &Vec3) -> f64 {
         let Some(u) = self.across(n) else { return 0.0 };
         let t = back.dot(&self.axis);
         self.radius * (back.dot(&u) - (1.0 - t * t).max(0.0).sqrt())
@@ -413,9 +413,10 @@ impl ContactSolver {
     pub fn gather(&mut self, b: &Bodies) {
         let later = self.substeps_done > 0 || self.gathered;
         self.gathered = true;
-        let mut any = false;
+        let (mut any, mut rounded) = (false, false);
         for k in 1..self.bodies.len() {
             let s = &mut self.bodies[k];
+            rounded |= s.surface == Surface::Rounded;
             let i = s.body as usize;
             s.v = Vec3::from(b.linear_velocity[i]);
             s.w = Vec3::from(b.angular_velocity[i]);
@@ -442,9 +443,16 @@ impl ContactSolver {
                 any = true;
             }
         }
-        if !any {
-            return;
+        if any {
+            self.refresh_moved();
         }
+        if rounded {
+            self.set_curves();
+        }
+    }
+
+    /// The arms of the constraints of the bodies [`Self::gather`] found moved.
+    fn refresh_moved(&mut self) {
         if self.wide() && self.constraints.len() >= MIN_PARALLEL_REFRESH && self.refresh_in_parallel() {
             return;
         }

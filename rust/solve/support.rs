@@ -489,13 +489,15 @@ impl ContactSolver {
             while i < r1 && s.rows[i].face == face {
                 s.targets[i] = match s.rows[i].kind {
                     RowKind::Normal(pi) => {
-                        let sep = rule.effective(gap.separation(&self.points[pi as usize]));
+                        let p = &self.points[pi as usize];
+                        let sep = rule.effective(gap.separation(p));
                         if rule.relax && sep > 0.0 {
                             // After the drift a gap is the next substep's business:
                             // closing it here would brake a body that has not arrived.
                             Target::Skip
                         } else {
-                            Target::AtLeast(-rule.bias(sep))
+                            // A rounded side's point falls by its curve besides.
+                            Target::AtLeast(-rule.bias(sep) - p.curve * rule.inv_h)
                         }
                     }
                     // Sticking, the points travel their chords together (see

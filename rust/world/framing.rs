@@ -28,7 +28,8 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// substep: friction along its points' chords).
 /// 11: every body's chord, and the patches' drift (the chords' difference
 /// friction holds, on free bodies too).
-pub const FORMAT_VERSION: u32 = 11;
+/// 12: each contact point's curve (see `solve::rounded_curve`).
+pub const FORMAT_VERSION: u32 = 12;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

@@ -248,6 +248,12 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
     let sweeps = if c.fresh && c.len > 1 && !rule.relax { FRESH_SWEEPS } else { 1 };
     let range = c.start as usize..(c.start + c.len) as usize;
     let moving = bodies[c.s1 as usize].dynamic && bodies[c.s2 as usize].dynamic;
+    if c.len > 1 {
+        // At the velocities this pass finds (see `super::rounded_curve`).
+        for p in points[range.clone()].iter_mut().filter(|p| p.curve != 0.0) {
+            p.curve = pair.curve(bodies, c, p, rule.inv_h);
+        }
+    }
     if c.len > 1 && solve_together(c, &mut points[range.clone()], &mut pair, &gap, rule, moving) {
         pair.store(bodies, c);
         return;
@@ -257,7 +263,8 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
             let Some(law) = rule.law(rule.effective(gap.separation(p)), moving) else {
                 continue;
             };
-            let imp = law.impulse(pair.normal_velocity(c, p) + p.curve * rule.inv_h, p);
+            let curve = pair.curve(bodies, c, p, rule.inv_h);
+            let imp = law.impulse(pair.normal_velocity(c, p) + curve * rule.inv_h, p);
             let total = (p.normal_impulse + imp).max(0.0);
             let delta = total - p.normal_impulse;
             p.normal_impulse = total;

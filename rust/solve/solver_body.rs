@@ -287,6 +287,17 @@ impl Pair {
         }
     }
 
+    /// Point `p`'s [`curve`](Point::curve) at the pair's angular velocities,
+    /// where it has one (substep `1 / inv_h`).
+    #[inline(always)]
+    pub fn curve(&self, bodies: &[SolverBody], c: &Constraint, p: &Point, inv_h: f64) -> f64 {
+        if p.curve == 0.0 {
+            0.0
+        } else {
+            super::rounded_curve::curve(bodies, c, p, (&self.w1, &self.w2), 1.0 / inv_h)
+        }
+    }
+
     #[inline(always)]
     pub fn normal_velocity(&self, c: &Constraint, p: &Point) -> f64 {
         c.normal.dot(&(self.v2 - self.v1)) + self.w2.dot(&p.rn2) - self.w1.dot(&p.rn1)

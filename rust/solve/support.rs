@@ -33,7 +33,7 @@
 use super::block::{Block, Row, RowKind, Target};
 use super::contact::ContactSolver;
 use super::impulse::Rule;
-use super::solver_body::Gap;
+use super::solver_body::{Gap, Pair};
 use crate::body::Bodies;
 use crate::math::Vec3;
 
@@ -497,7 +497,9 @@ impl ContactSolver {
                             Target::Skip
                         } else {
                             // A rounded side's point falls by its curve besides.
-                            Target::AtLeast(-rule.bias(sep) - p.curve * rule.inv_h)
+                            let c = &self.constraints[face as usize];
+                            let curve = Pair::load(&self.bodies, c).curve(&self.bodies, c, p, rule.inv_h);
+                            Target::AtLeast(-rule.bias(sep) - curve * rule.inv_h)
                         }
                     }
                     // Sticking, the points travel their chords together (see

@@ -57,7 +57,7 @@ impl ContactSolver {
             before += p.normal_impulse;
             if p.normal_impulse > 0.0 {
                 let s = rule.effective(gap.separation(p));
-                let excess = pair.normal_velocity(c, p) + p.curve * rule.inv_h - rule.push_out_speed(s);
+                let excess = pair.normal_velocity(c, p) + pair.curve(bodies, c, p, rule.inv_h) * rule.inv_h - rule.push_out_speed(s);
                 if excess > tolerance {
                     let d = (p.normal_mass * excess).min(p.normal_impulse);
                     p.normal_impulse -= d;

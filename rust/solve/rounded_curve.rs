@@ -74,9 +74,9 @@ impl SolverBody {
 }
 
 impl ContactSolver {
-    /// Every point's [`curve`](Point::curve) for this substep at the gathered
-    /// velocities (after `gather`, in a step with a rounded body); the passes
-    /// take it again at the velocities they find where it is not zero.
+    /// Every point's [`curve`](Point::curve) at the step's first gathered
+    /// velocities (in a step with a rounded body); the passes take it again
+    /// at the velocities they find where it is not zero.
     pub(crate) fn set_curves(&mut self) {
         let h = 1.0 / self.inv_h;
         let least = MIN_CURVE * super::impulse::REST_DEPTH * self.settings.slop;

@@ -3,39 +3,30 @@
     python docs/eulers_disk.py series > now.json        # with the build to measure
     python docs/eulers_disk.py plot before.json now.json docs/eulers_disk.png
 
-A disk (r 0.2 m, 4 cm thick) on its rim tilted 57°, spun about its axis at 5, 10
-and 30 rad/s, without friction and with μ = 0.5; the depth is its lowest point
-below the floor, from its pose.
+The disk of `tests/test_rolling.py` (r 0.2 m, 4 cm thick, on its rim tilted 57°),
+spun about its axis at 5, 10 and 30 rad/s, without friction and with μ = 0.5; the
+depth is its lowest point below the floor, from its pose.
 """
 import json
-import math
 import sys
+from pathlib import Path
 
 import numpy as np
 
-G = 9.81
 SPINS = (5.0, 10.0, 30.0)
 FRICTIONS = (0.0, 0.5)
 
 
-def series(spin, friction, tilt=1.0, seconds=2.0, dt=1 / 60):
-    import rigidrs as rr
+def series(spin, friction, seconds=2.0):
+    """The rim depth (m) after each step of the disk of `tests/test_rolling.py`."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from test_rolling import DT, rim_depth, wobbling_disk
 
-    r, half = 0.2, 0.02
-    axis = np.array([0.0, -math.sin(tilt), math.cos(tilt)])
-    scene = rr.Scene(gravity=(0.0, 0.0, -G))
-    scene.add_body(rr.Plane(), fixed=True, friction=friction)
-    disk = scene.add_body(rr.Cylinder(radius=r, half_height=half), density=1000.0,
-                          position=(0.0, 0.0, r * math.sin(tilt) + half * math.cos(tilt)),
-                          orientation=(math.sin(tilt / 2), 0.0, 0.0, math.cos(tilt / 2)),
-                          angular_velocity=tuple(spin * axis), friction=friction)
-    world = scene.build(dt=dt, sleep=False)
+    world, disk, (r, half) = wobbling_disk(spin, friction)
     depths = []
-    for _ in range(round(seconds / dt)):
+    for _ in range(round(seconds / DT)):
         world.step(1)
-        a = world.bodies.rotation[disk][:, 2]
-        low = float(world.bodies.position[disk, 2]) - half * abs(a[2]) - r * math.sqrt(max(0.0, 1 - a[2] ** 2))
-        depths.append(-low)
+        depths.append(rim_depth(world, disk, r, half))
     return depths
 
 

@@ -253,10 +253,10 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
         for p in points[range.clone()].iter_mut().filter(|p| p.curve != 0.0) {
             p.curve = pair.curve(bodies, c, p, rule.inv_h);
         }
-    }
-    if c.len > 1 && solve_together(c, &mut points[range.clone()], &mut pair, &gap, rule, moving) {
-        pair.store(bodies, c);
-        return;
+        if solve_together(c, &mut points[range.clone()], &mut pair, &gap, rule, moving) {
+            pair.store(bodies, c);
+            return;
+        }
     }
     for _ in 0..sweeps {
         for p in &mut points[range.clone()] {

@@ -37,9 +37,20 @@ const MIN_CURVE: f64 = 0.01;
 /// its bodies turning at `w1` and `w2` (rad/s): the second-order change of
 /// its separation.
 #[inline]
-pub(super) fn curve(bodies: &[SolverBody], c: &Constraint, p: &Point, (w1, w2): (&Vec3, &Vec3), h: f64) -> f64 {
+fn curve(bodies: &[SolverBody], c: &Constraint, p: &Point, (w1, w2): (&Vec3, &Vec3), h: f64) -> f64 {
     let (b1, b2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
     b1.rounded_curve(p, (1, &c.normal), w1, h) + b2.rounded_curve(p, (2, &c.normal), w2, h)
+}
+
+/// Point `p`'s curve again, where it has one, at the angular velocities a
+/// pass finds: `w`, or the solver bodies' own (`None`); substep `1 / inv_h`.
+#[inline(always)]
+pub(super) fn curve_now(bodies: &[SolverBody], c: &Constraint, p: &Point, w: Option<(&Vec3, &Vec3)>, inv_h: f64) -> f64 {
+    if p.curve == 0.0 {
+        return 0.0;
+    }
+    let own = || (&bodies[c.s1 as usize].w, &bodies[c.s2 as usize].w);
+    curve(bodies, c, p, w.unwrap_or_else(own), 1.0 / inv_h)
 }
 
 impl SolverBody {

@@ -291,11 +291,7 @@ impl Pair {
     /// where it has one (substep `1 / inv_h`).
     #[inline(always)]
     pub fn curve(&self, bodies: &[SolverBody], c: &Constraint, p: &Point, inv_h: f64) -> f64 {
-        if p.curve == 0.0 {
-            0.0
-        } else {
-            super::rounded_curve::curve(bodies, c, p, (&self.w1, &self.w2), 1.0 / inv_h)
-        }
+        super::rounded_curve::curve_now(bodies, c, p, Some((&self.w1, &self.w2)), inv_h)
     }
 
     #[inline(always)]
@@ -424,10 +420,9 @@ impl ContactSolver {
     pub fn gather(&mut self, b: &Bodies) {
         let later = self.substeps_done > 0 || self.gathered;
         self.gathered = true;
-        let (mut any, mut rounded) = (false, false);
+        let mut any = false;
         for k in 1..self.bodies.len() {
             let s = &mut self.bodies[k];
-            rounded |= s.surface == Surface::Rounded;
             let i = s.body as usize;
             s.v = Vec3::from(b.linear_velocity[i]);
             s.w = Vec3::from(b.angular_velocity[i]);
@@ -460,7 +455,7 @@ impl ContactSolver {
         // Once a step (every substep cost a pile of 300 capsules 45 % of its
         // speed); each pass takes a point's curve again at the velocities it
         // finds (see `super::rounded_curve`).
-        if rounded && !later {
+        if !later && self.bodies.iter().any(|s| s.surface == Surface::Rounded) {
             self.set_curves();
         }
     }

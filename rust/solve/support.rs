@@ -33,7 +33,7 @@
 use super::block::{Block, Row, RowKind, Target};
 use super::contact::ContactSolver;
 use super::impulse::Rule;
-use super::solver_body::{Gap, Pair};
+use super::solver_body::Gap;
 use crate::body::Bodies;
 use crate::math::Vec3;
 
@@ -498,7 +498,7 @@ impl ContactSolver {
                         } else {
                             // A rounded side's point falls by its curve besides.
                             let c = &self.constraints[face as usize];
-                            let curve = Pair::load(&self.bodies, c).curve(&self.bodies, c, p, rule.inv_h);
+                            let curve = super::rounded_curve::curve_now(&self.bodies, c, p, None, rule.inv_h);
                             Target::AtLeast(-rule.bias(sep) - curve * rule.inv_h)
                         }
                     }

@@ -119,15 +119,20 @@ impl Rounding {
     /// the axis for a cylinder. 0 at the step start.
     #[inline]
     pub(super) fn gap_change(&self, back: &Vec3, n: &Vec3) -> f64 {
-        let Some(u) = self.across(n) else { return 0.0 };
+        self.across(n).map_or(0.0, |u| self.gap_change_across(back, &u))
+    }
+
+    /// [`Self::gap_change`] given `u = across(n)`.
+    #[inline]
+    pub(super) fn gap_change_across(&self, back: &Vec3, u: &Vec3) -> f64 {
         let t = back.dot(&self.axis);
-        self.radius * (back.dot(&u) - (1.0 - t * t).max(0.0).sqrt())
+        self.radius * (back.dot(u) - (1.0 - t * t).max(0.0).sqrt())
     }
 
     /// The unit vector `u` across the axis toward the normal `n` (`n` itself
     /// for a capsule), if a contact of that normal touches the rounded surface.
     #[inline]
-    fn across(&self, n: &Vec3) -> Option<Vec3> {
+    pub(super) fn across(&self, n: &Vec3) -> Option<Vec3> {
         if self.axis == Vec3::zeros() {
             return Some(*n);
         }
@@ -417,7 +422,9 @@ impl ContactSolver {
     /// A body that has moved less than `MOVE_EPS` since its last refresh keeps its
     /// arms: at rest (a stack, a pyramid) nothing is recomputed, and the angular
     /// momentum left unbalanced is at most that distance times the impulse.
-    pub fn gather(&mut self, b: &Bodies) {
+    /// `relax`: the gather before the relax pass (the rounded contacts'
+    /// curves are found before each velocity pass).
+    pub fn gather(&mut self, b: &Bodies, relax: bool) {
         let later = self.substeps_done > 0 || self.gathered;
         self.gathered = true;
         let mut any = false;
@@ -452,10 +459,13 @@ impl ContactSolver {
         if any {
             self.refresh_moved();
         }
-        // Once a step (every substep cost a pile of 300 capsules 45 % of its
-        // speed); each pass takes a point's curve again at the velocities it
-        // finds (see `super::rounded_curve`).
-        if !later && self.bodies.iter().any(|s| s.surface == Surface::Rounded) {
+        // Each substep, before its velocity pass (not again before the relax:
+        // its velocities start the next substep, which takes its own). Once a
+        // step, points whose curve was below the least at the step start were
+        // left out until the next: Euler's disk at 30 rad/s sank 29 / 23 µm in
+        // 0.1 s (1.77 / 1.98 µm now), and 300 cylinders tumbling onto a plane
+        // stepped 1.17× faster.
+        if !relax && self.bodies.iter().any(|s| s.surface == Surface::Rounded) {
             self.set_curves();
         }
     }

@@ -233,8 +233,8 @@ impl World {
                 }
             }
             StageKind::NarrowPhase => self.narrow_phase(h),
-            StageKind::Gather { .. } => {
-                self.with_solver(|s, b| s.gather(b));
+            StageKind::Gather { relax } => {
+                self.with_solver(|s, b| s.gather(b, relax));
                 self.gather_links();
             }
             StageKind::Scatter { relax } => {

@@ -154,9 +154,11 @@ enum Found {
 /// on two cores: a step handed to the pool pays the hand-offs, the pool's
 /// idle spinning beside the serial solve and the reading of what one thread
 /// wrote from the other's cache. A 1000-ball pit (2900 pairs, 2550 of them two
-/// balls) stepped 0.88–1.0× its one-thread speed on the pool, a 3000-ball pit
-/// (8400) 0.99–1.09×.
-pub const MIN_PARALLEL_PAIRS: usize = 8192;
+/// balls) stepped 0.88–1.0× its one-thread speed on the pool when its passes
+/// were slower; since the build takes a third of its step (2026-12-05, five
+/// runs of 1200 steps each way on two threads, medians): 353 steps/s on the
+/// pool from 2048 pairs, 334 from 8192 (narrow phase 1000 → 790 µs a step).
+pub const MIN_PARALLEL_PAIRS: usize = 2048;
 
 /// Touching pairs of shapes other than two balls from which a step runs on
 /// the pool too: parry clips their manifolds (a microsecond or more a pair,

@@ -286,14 +286,21 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
 /// period) of the substep's map, and tipped sideways as its face came down
 /// (`tests/test_landing_symmetry.py`). Solving the normals last leaves the
 /// gaps closed as asked, and the map contracts (0.75 at 41°). A single point
-/// is left alone: its friction acts where its normal does, and that loop
-/// contracts without it.
+/// is left alone (its friction acts where its normal does, and that loop
+/// contracts without it) unless it has a curve (see `super::rounded_curve`):
+/// the turn its friction gives the body changes how far the rounded surface
+/// closes in the substep, which the normal asked for at the turn before.
+/// Euler's disk with μ = 0.5 sank 0.94 / 1.69 mm at 10 / 30 rad/s and lifted
+/// off by 0.11 / 0.06 mm; solved again, 0.044 / 0.058 mm and 4 / 2 µm.
 pub(super) fn close_gaps(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: &Rule) {
+    let range = c.start as usize..(c.start + c.len) as usize;
     if c.len < 2 {
+        if points[range].iter().any(|p| p.curve != 0.0) {
+            solve(c, points, bodies, rule);
+        }
         return;
     }
     let gap = Gap::new(bodies, c);
-    let range = c.start as usize..(c.start + c.len) as usize;
     if points[range].iter().any(|p| rule.effective(gap.separation(p)) > 0.0) {
         solve(c, points, bodies, rule);
     }

@@ -76,6 +76,11 @@ fn side(state: &PairState, slot: u32, colliders: &[Collider], bodies: &Bodies) -
     }
 }
 
+/// Whether collider `c`'s contacts may be smoothed here: a fixed box or hull.
+pub fn may_smooth(c: &Collider, bodies: &Bodies) -> bool {
+    bodies.kind.get(c.body as usize) == Some(&BodyKind::Fixed) && flat(c.shape.as_ref())
+}
+
 fn flat(s: &dyn Shape) -> bool {
     s.as_cuboid().is_some() || s.as_convex_polyhedron().is_some()
 }

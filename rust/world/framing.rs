@@ -29,7 +29,9 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 11: every body's chord, and the patches' drift (the chords' difference
 /// friction holds, on free bodies too).
 /// 12: each contact point's curve (see `solve::rounded_curve`).
-pub const FORMAT_VERSION: u32 = 12;
+/// 13: the relative pose and prediction each pair's manifolds were computed
+/// at (kept while the pair is still: see `collide::narrow_phase::STILL`).
+pub const FORMAT_VERSION: u32 = 13;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

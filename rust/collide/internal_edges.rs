@@ -64,7 +64,7 @@ pub fn smooth(pairs: &mut [PairState], slots: impl Iterator<Item = u32>, collide
 /// The pair in `state` as a moving body against a fixed box or hull, if it is one.
 fn side(state: &PairState, slot: u32, colliders: &[Collider], bodies: &Bodies) -> Option<Side> {
     let (c1, c2) = colliders_of(state, colliders)?;
-    let fixed = |c: &Collider| bodies.kind.get(c.body as usize) == Some(&BodyKind::Fixed) && flat(c.shape.as_ref());
+    let fixed = |c: &Collider| may_smooth(c, bodies);
     let moving = |c: &Collider| bodies.kind.get(c.body as usize) == Some(&BodyKind::Dynamic);
     if state.manifolds.is_empty() {
         return None;

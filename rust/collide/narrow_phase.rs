@@ -408,8 +408,8 @@ fn still(a: &Isometry3<f64>, b: &Isometry3<f64>) -> bool {
 /// (see [`super::internal_edges`]).
 fn keeps_manifolds(c1: &Collider, c2: &Collider, bodies: &Bodies) -> bool {
     let (s1, s2) = (c1.shape.as_ref(), c2.shape.as_ref());
-    let afresh = |s: &dyn parry3d_f64::shape::Shape| s.as_trimesh().is_some() || rolls(s) || s.as_compound().is_some();
-    !afresh(s1) && !afresh(s2) && !super::internal_edges::may_smooth(c1, bodies) && !super::internal_edges::may_smooth(c2, bodies)
+    let kept = |s: &dyn parry3d_f64::shape::Shape| !afresh(s) && s.as_compound().is_none();
+    kept(s1) && kept(s2) && !super::internal_edges::may_smooth(c1, bodies) && !super::internal_edges::may_smooth(c2, bodies)
 }
 
 /// Whether some point of the pair's manifolds is within its prediction.
@@ -435,7 +435,7 @@ pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, predic
     let many_cornered = c1.many_cornered || c2.many_cornered;
     let kept = if many_cornered { super::face_points::keep(manifolds) } else { Vec::new() };
     let (s1, s2) = (c1.shape.as_ref(), c2.shape.as_ref());
-    let afresh = s1.as_trimesh().is_some() || s2.as_trimesh().is_some() || rolls(s1) || rolls(s2);
+    let afresh = afresh(s1) || afresh(s2);
     let old = if afresh { take_points(manifolds) } else { Vec::new() };
     // Unsupported pairs are rejected when the world is built; none reach here.
     let _ = DefaultQueryDispatcher.contact_manifolds(pos12, s1, s2, prediction, manifolds, workspace);
@@ -455,6 +455,12 @@ pub fn manifolds_of(c1: &Collider, c2: &Collider, pos12: &Isometry3<f64>, predic
         super::face_points::complete(manifolds, c1, c2, pos12, prediction, &kept);
     }
     super::coincident_points::merge(manifolds, s1, s2);
+}
+
+/// Whether parry's manifolds of a shape are computed afresh each step (see
+/// [`take_points`]): a mesh's, or a shape that rolls.
+fn afresh(s: &dyn parry3d_f64::shape::Shape) -> bool {
+    s.as_trimesh().is_some() || rolls(s)
 }
 
 /// Whether a shape can roll on a curved side (a capsule, a cylinder, a

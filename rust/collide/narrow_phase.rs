@@ -76,6 +76,10 @@ pub struct PairState {
     /// The relative pose and prediction the manifolds were last computed at
     /// (see [`STILL`]).
     computed_at: Option<(Isometry3<f64>, f64)>,
+    /// This step kept the manifolds (see [`STILL`]): they are last step's,
+    /// bit for bit, and so is every point's distance.
+    #[serde(skip)]
+    pub still: bool,
 }
 
 impl PairState {
@@ -375,11 +379,13 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
     let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
     let pos12 = pose1.inv_mul(&pose2);
     let prediction = state.prediction;
+    state.still = false;
     if let (Some(r1), Some(r2)) = (c1.ball, c2.ball) {
         ball_ball(&pos12, r1, r2, prediction, &mut state.ball);
         return state.ball.is_some_and(|b| b.point.dist <= prediction);
     }
-    if state.computed_at.is_some_and(|(at, reach)| still(&at, &pos12) && (reach - prediction).abs() <= STILL) {
+    state.still = state.computed_at.is_some_and(|(at, reach)| still(&at, &pos12) && (reach - prediction).abs() <= STILL);
+    if state.still {
         return touches(state);
     }
     manifolds_of(c1, c2, &pos12, prediction, (&mut state.manifolds, &mut state.workspace));
@@ -393,7 +399,7 @@ fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bod
 /// some 1e-15 m a step, and its manifolds came out the same each step (a
 /// quarter of the 210-box pyramid's step). A kept point's distance is then
 /// off by at most this times the shapes' size, a millionth of the rest depth.
-const STILL: f64 = 1e-12;
+pub const STILL: f64 = 1e-12;
 
 /// Whether `a` and `b` are within [`STILL`] of each other.
 fn still(a: &Isometry3<f64>, b: &Isometry3<f64>) -> bool {

@@ -71,6 +71,7 @@ impl ContactSolver {
         if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
             let (contexts, jobs, members) = self.place(narrow, colliders, b);
             self.lay_out(narrow, &contexts, &jobs, &members);
+            self.note_orientations(b);
         } else {
             self.constraints.clear();
             self.points.clear();
@@ -80,9 +81,10 @@ impl ContactSolver {
             for &slot in &narrow.touching {
                 let state = &narrow.pairs[slot as usize];
                 let ctx = self.pair_context(colliders, b, state.key, slot);
-                self.push_pair(state.contacts(), &ctx, true, state.prediction);
+                self.push_pair(state.contacts(), &ctx, (true, state.still), state.prediction);
             }
         }
+        self.note_orientations(b);
         self.join_flush_pairs(b);
         self.scale_warm_start(warm_scale);
         let g = step.gravity.norm();
@@ -183,10 +185,18 @@ impl ContactSolver {
             if group.len() != indices.len() {
                 return;
             }
-            let src = Source::new(ctx, group, true, state.prediction);
+            let mut src = Source::new(ctx, group, true, state.prediction, state.still);
             let mut slots = pts.iter_mut();
-            src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
-            let (constraint, kept) = shared.constraint(j, &src, pts);
+            let still = shared.still(j, &src, |p| slots.next().into_iter().for_each(|s| *s = p));
+            if still.is_none() {
+                src.find_normal();
+                let mut slots = pts.iter_mut();
+                src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
+            }
+            let (constraint, kept) = match still {
+                Some(kept) => shared.kept_still(j, &src, kept),
+                None => shared.constraint(j, &src, pts),
+            };
             shared.patch((f, shape), &constraint, kept, &src, pts);
             *c = constraint;
             *k = kept.map_or(reuse::NONE, |o| o as u32);
@@ -195,6 +205,22 @@ impl ContactSolver {
         let each = jobs.par_iter().zip(parts.par_iter_mut()).zip(constraints.par_iter_mut());
         each.zip(patches).zip(kept.par_iter_mut()).with_min_len(PER_TASK).for_each(one);
         self.previous.kept = kept;
+    }
+
+    /// Notes each constrained body's orientation, for next step's
+    /// [`PairContext::turned`].
+    fn note_orientations(&mut self, b: &Bodies) {
+        let at = &mut self.previous.built_at;
+        if at.len() < b.len() {
+            at.resize(b.len(), Quat::new(0.0, 0.0, 0.0, 0.0));
+        }
+        for c in &self.constraints {
+            for i in [c.b1 as usize, c.b2 as usize] {
+                if let Some(q) = at.get_mut(i) {
+                    *q = b.q(i);
+                }
+            }
+        }
     }
 
     /// The solver index of world body `i`, creating its entry if it moves.
@@ -254,7 +280,10 @@ impl ContactSolver {
                 self.bodies[s as usize].rounding = rounding;
             }
         }
+        let was = self.previous.built_at.get(b1).copied();
+        let turned = was.map_or(f64::INFINITY, |q| 2.0 * (b.q(b1) - q).norm());
         PairContext {
+            turned,
             s1,
             s2,
             b1: b1 as u32,
@@ -273,23 +302,33 @@ impl ContactSolver {
     /// Appends the constraints of a pair's manifolds (those of one normal
     /// together: see [`super::coplanar`]), of their points no further apart
     /// than `reach` (m); `warm`: start from the impulses the manifolds carry and
-    /// keep last step's geometry if it holds.
-    pub(crate) fn push_pair<'a>(&mut self, contacts: impl Iterator<Item = Member<'a>>, ctx: &PairContext, warm: bool, reach: f64) {
-        each_group(contacts, ctx, reach, |group| self.push_group(group, ctx, warm, reach));
+    /// keep last step's geometry if it holds; `still`: the manifolds are last
+    /// step's (see `NarrowPhase::still`).
+    pub(crate) fn push_pair<'a>(&mut self, contacts: impl Iterator<Item = Member<'a>>, ctx: &PairContext, (warm, still): (bool, bool), reach: f64) {
+        each_group(contacts, ctx, reach, |group| self.push_group(group, ctx, (warm, still), reach));
     }
 
     /// Appends the constraint of a group of a pair's manifolds (see
     /// [`ContactSolver::push_pair`]).
-    fn push_group(&mut self, group: &[Member], ctx: &PairContext, warm: bool, reach: f64) {
+    fn push_group(&mut self, group: &[Member], ctx: &PairContext, (warm, still): (bool, bool), reach: f64) {
         let len = group.iter().map(|(_, c)| within(c, reach)).sum();
         let previous = if warm { self.previous.find(ctx.pair, group[0].0) } else { None };
         let start = self.points.len() as u32;
         let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(ctx) };
-        let src = Source::new(ctx, group, warm, reach);
-        src.points(|p| self.points.push(p));
+        let mut src = Source::new(ctx, group, warm, reach, still);
         let shared = Shared { bodies: &self.bodies, previous: &self.previous };
+        let points = &mut self.points;
+        let kept_still = shared.still(&job, &src, |p| points.push(p));
+        if kept_still.is_none() {
+            points.truncate(start as usize);
+            src.find_normal();
+            src.points(|p| points.push(p));
+        }
         let pts = &mut self.points[start as usize..];
-        let (constraint, kept) = shared.constraint(&job, &src, pts);
+        let (constraint, kept) = match kept_still {
+            Some(kept) => shared.kept_still(&job, &src, kept),
+            None => shared.constraint(&job, &src, pts),
+        };
         self.patches.push(Patch::default());
         self.shapes.push(PatchShape::default());
         if let (Some(patch), Some(shape)) = (self.patches.last_mut(), self.shapes.last_mut()) {
@@ -346,11 +385,52 @@ struct Source<'a, 'b> {
     reach: f64,
     /// World normal: the first manifold's.
     normal: Vec3,
+    /// The pair's manifolds are last step's (see `NarrowPhase::still`).
+    still: bool,
 }
 
 impl<'a, 'b> Source<'a, 'b> {
-    fn new(ctx: &'a PairContext, members: &'a [Member<'b>], warm: bool, reach: f64) -> Self {
-        Source { ctx, members, warm, reach, normal: coplanar::normal_of(ctx, &members[0].1) }
+    /// A still pair's normal is found only if its constraint cannot be kept
+    /// as it was (see [`Self::find_normal`]).
+    fn new(ctx: &'a PairContext, members: &'a [Member<'b>], warm: bool, reach: f64, still: bool) -> Self {
+        let mut src = Source { ctx, members, warm, reach, normal: Vec3::zeros(), still };
+        if !still {
+            src.find_normal();
+        }
+        src
+    }
+
+    fn find_normal(&mut self) {
+        self.normal = coplanar::normal_of(self.ctx, &self.members[0].1);
+    }
+
+    /// The points of a still pair as last step's constraint `old` laid them out
+    /// and kept them (see [`reuse::still_slack`]), each handed to `put`, with
+    /// this step's warm start; false (some handed already) if a point is not
+    /// where `old` has it.
+    #[inline(always)]
+    fn still_points(&self, old: &[Point], normal: &Vec3, mut put: impl FnMut(Point)) -> bool {
+        let mut old = old.iter();
+        for (index, m) in self.members {
+            for (k, tp) in m.points.iter().enumerate().filter(|(_, tp)| tp.dist <= self.reach) {
+                let Some(q) = old.next().filter(|q| q.manifold == *index && q.manifold_point as usize == k) else {
+                    return false;
+                };
+                put(Point {
+                    r1: q.anchor1,
+                    r2: q.anchor2,
+                    // As `reuse::keep` writes it.
+                    base_separation: tp.dist - normal.dot(&(q.anchor2 - q.anchor1)),
+                    separation: tp.dist,
+                    normal_impulse: if self.warm { tp.data.normal_impulse } else { 0.0 },
+                    curve: 0.0,
+                    total_normal: 0.0,
+                    part: 0,
+                    ..*q
+                });
+            }
+        }
+        old.next().is_none()
     }
 
     /// Every point of the manifolds, within reach or not.
@@ -409,9 +489,9 @@ impl Shared<'_> {
     #[inline(always)]
     fn constraint(&self, job: &Job, src: &Source, pts: &mut [Point]) -> (Constraint, Option<usize>) {
         let ctx = src.ctx;
-        let kept = job.previous.filter(|&o| reuse::holds(self.previous, self.bodies, o, ctx, &src.normal, pts));
-        let (n, t1, t2) = match kept {
-            Some(o) => reuse::keep(self.previous, o, pts),
+        let kept = job.previous.and_then(|o| reuse::holds(self.previous, self.bodies, o, ctx, &src.normal, pts).map(|w| (o, w)));
+        let basis = match kept {
+            Some((o, _)) => reuse::keep(self.previous, o, pts),
             None => {
                 let n = src.normal;
                 let t1 = orthonormal(&n);
@@ -422,7 +502,40 @@ impl Shared<'_> {
                 (n, t1, n.cross(&t1))
             }
         };
-        let c = Constraint {
+        // An impact's contact (built after the step's orientations are noted)
+        // is never kept without the check.
+        let (slack, arm) = reuse::slack_of(pts, kept.map_or(0.0, |(_, w)| w));
+        let slack = if src.warm { slack } else { f64::NEG_INFINITY };
+        (Self::assemble(job, src, basis, (slack, arm)), kept.map(|(o, _)| o))
+    }
+
+    /// Last step's constraint `o` of a still pair kept with slack `slack` (see
+    /// [`Self::still`]), its points laid out.
+    #[inline(always)]
+    fn kept_still(&self, job: &Job, src: &Source, (o, slack): (usize, f64)) -> (Constraint, Option<usize>) {
+        let c = &self.previous.constraints[o];
+        let c = Constraint { still: true, ..Self::assemble(job, src, (c.normal, c.t1, c.t2), (slack, c.arm)) };
+        (c, Some(o))
+    }
+
+    /// If `src`'s pair is still and the slack of last step's constraint of its
+    /// manifold allows (see [`reuse::still_slack`]), its points through `put`,
+    /// as [`Self::constraint`] would keep them, and that constraint and the
+    /// slack left; else `None` (some points may have been handed over).
+    #[inline(always)]
+    fn still(&self, job: &Job, src: &Source, put: impl FnMut(Point)) -> Option<(usize, f64)> {
+        let o = job.previous.filter(|_| src.still && src.warm)?;
+        let slack = reuse::still_slack(self.previous, self.bodies, o, src.ctx, job.len)?;
+        let c = &self.previous.constraints[o];
+        let old = &self.previous.points[c.start as usize..(c.start + c.len) as usize];
+        src.still_points(old, &c.normal, put).then_some((o, slack))
+    }
+
+    /// The constraint of `job` with normal and tangents `n, t1, t2`.
+    #[inline(always)]
+    fn assemble(job: &Job, src: &Source, (n, t1, t2): (Vec3, Vec3, Vec3), (slack, arm): (f64, f64)) -> Constraint {
+        let ctx = src.ctx;
+        Constraint {
             s1: ctx.s1,
             s2: ctx.s2,
             normal: n,
@@ -446,8 +559,10 @@ impl Shared<'_> {
             landing: false,
             as_built: true,
             joined: false,
-        };
-        (c, kept)
+            slack,
+            arm,
+            still: false,
+        }
     }
 
     /// The friction patch of constraint `c` (its geometry kept from last step's

@@ -31,7 +31,10 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 12: each contact point's curve (see `solve::rounded_curve`).
 /// 13: the relative pose and prediction each pair's manifolds were computed
 /// at (kept while the pair is still: see `collide::narrow_phase::STILL`).
-pub const FORMAT_VERSION: u32 = 13;
+/// 14: each constraint's slack, arm and whether it was kept as still, and
+/// each constrained body's orientation at the last build (see
+/// `solve::reuse::still_slack`).
+pub const FORMAT_VERSION: u32 = 14;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

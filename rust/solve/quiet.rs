@@ -233,12 +233,20 @@ impl ContactSolver {
 
     /// Once a step (the plan made or taken back): each block's range of
     /// effective separations at the step start and the longest lever of its
-    /// rows, for [`Self::block_motion`].
-    pub(crate) fn bound_blocks(&mut self) {
+    /// rows, for [`Self::block_motion`]. A block of a plan taken back whose
+    /// faces were all kept as still (see `super::reuse::still_slack`) has the
+    /// rows, anchors and separations of last step, bit for bit, and keeps its
+    /// bounds (a resting pyramid of 820 boxes found them in 6 % of its step).
+    pub(crate) fn bound_blocks(&mut self, restored: bool) {
         let rest = REST_DEPTH * self.settings.slop;
         let s = &mut self.support;
-        let (rows, points) = (&s.rows, &self.points);
+        let restored = restored && s.bound_rest == rest;
+        s.bound_rest = rest;
+        let (rows, points, faces, constraints) = (&s.rows, &self.points, &s.faces, &self.constraints);
         let bound = |b: &mut super::block::Block| {
+            if restored && faces[b.faces.0 as usize..b.faces.1 as usize].iter().all(|&ci| constraints[ci as usize].still) {
+                return;
+            }
             // The longest arm squared: one square root a block, not four a row
             // (the same bits: a square root is monotone and correctly rounded).
             let (mut low, mut high, mut arm2) = (f64::INFINITY, f64::NEG_INFINITY, 1.0f64);

@@ -100,6 +100,8 @@ fn a_kept_support_plan_is_the_plan_made_afresh() {
     let bodies = &w.bodies;
     let s = &mut w.collision.as_mut().unwrap().solver;
     assert!(s.plan_unchanged(), "a pyramid at rest keeps its plan");
+    // Every face kept as still: the blocks kept their bounds too.
+    assert!(s.constraints.iter().all(|c| c.still));
     let (blocks, faces, rows) = (s.support.blocks.clone(), s.support.faces.clone(), s.support.rows.clone());
     let sides: Vec<(u8, u32)> = s.constraints.iter().map(|c| (c.lower, c.group)).collect();
     let ordinary = s.ordinary.clone();
@@ -111,6 +113,7 @@ fn a_kept_support_plan_is_the_plan_made_afresh() {
     assert_eq!(s.support.blocks.len(), blocks.len());
     for (a, b) in s.support.blocks.iter().zip(&blocks) {
         assert_eq!((a.body, a.level, a.faces, a.rows, a.island, a.q), (b.body, b.level, b.faces, b.rows, b.island, b.q));
+        assert_eq!([a.low, a.high, a.arm].map(f64::to_bits), [b.low, b.high, b.arm].map(f64::to_bits));
     }
     assert_eq!(s.support.rows.len(), rows.len());
     for (a, b) in s.support.rows.iter().zip(&rows) {

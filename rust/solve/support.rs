@@ -145,6 +145,8 @@ pub struct Support {
     pub last_velocity_pass: u64,
     /// See [`super::rocking`].
     pub rocking: super::rocking::Rocking,
+    /// The rest depth (m) the blocks' bounds were found for (see `super::quiet`).
+    pub bound_rest: f64,
 }
 
 impl Support {
@@ -217,12 +219,13 @@ impl ContactSolver {
             c.settled = settled;
             c.landing = landing;
         }
-        if self.plan_unchanged() {
+        let restored = self.plan_unchanged();
+        if restored {
             self.restore_plan();
         } else {
             self.plan_afresh(up);
         }
-        self.bound_blocks();
+        self.bound_blocks(restored);
         self.index_islands();
         self.index_groups();
     }

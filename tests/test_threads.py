@@ -44,8 +44,10 @@ def free_bodies(n: int = 13_000) -> rr.World:
 # narrow_phase.rs). A step with support islands to sweep side by side goes
 # there too: the heap's, checked in Rust (`island_sweeps.rs`).
 PARALLEL_PAIRS = 2048
-# Pairs of shapes other than two balls from which a step goes there too
-# (`MIN_PARALLEL_MANIFOLD_PAIRS`): their manifolds cost far more to find and build.
+# Pairs of shapes other than two balls, their manifolds found again, from
+# which a step goes there too (`MIN_PARALLEL_MANIFOLD_PAIRS`): their manifolds
+# cost far more to find and build. (A pyramid at rest keeps its manifolds: it
+# goes to the pool in its first steps only.)
 PARALLEL_MANIFOLD_PAIRS = 640
 
 

@@ -167,14 +167,18 @@ enum Found {
 /// pool from 2048 pairs, 334 from 8192 (narrow phase 1000 → 790 µs a step).
 pub const MIN_PARALLEL_PAIRS: usize = 2048;
 
-/// Touching pairs of shapes other than two balls from which a step runs on
-/// the pool too: parry clips their manifolds (a microsecond or more a pair,
-/// where two balls' contact takes tens of nanoseconds) and each carries up to
-/// four points to build, so their share of a step worth splitting comes at
-/// far fewer pairs. Measured on two cores (`examples/contact_scenes.rs`, the
-/// step on the pool against one thread, 2026-12-05): pyramids of 210 boxes
-/// (400 such pairs) 0.98–1.0×, of 465 (900) 1.1×, of 630 (1225) 1.14×, of
-/// 820 (1600) 1.12–1.18×, of 1275 (2500) 1.3×; the 1000-ball pit (350) 0.9–1.0×.
+/// Touching pairs of shapes other than two balls, their manifolds found
+/// again (not still), from which a step runs on the pool too: parry clips
+/// their manifolds (a microsecond or more a pair, where two balls' contact
+/// takes tens of nanoseconds) and each carries up to four points to build,
+/// so their share of a step worth splitting comes at far fewer pairs.
+/// Measured on two cores (`examples/contact_scenes.rs`, the step on the pool
+/// against one thread, 2026-12-05): pyramids of 210 boxes (400 such pairs)
+/// 0.98–1.0×, of 465 (900) 1.1×, of 630 (1225) 1.14×, of 820 (1600)
+/// 1.12–1.18×, of 1275 (2500) 1.3×; the 1000-ball pit (350) 0.9–1.0×. A
+/// still pair costs neither (its manifolds and constraints are kept), and
+/// once pyramids at rest kept them, counting their still pairs sent them to
+/// the pool for 0.95× (465 boxes) and 0.95–1.03× (820) of one thread.
 pub const MIN_PARALLEL_MANIFOLD_PAIRS: usize = 640;
 /// Pairs handed to a thread at a time.
 const PAIRS_PER_TASK: usize = 64;
@@ -311,9 +315,10 @@ impl NarrowPhase {
     }
 
     /// How many pairs touched at the last update whose shapes are not two
-    /// balls (see [`MIN_PARALLEL_MANIFOLD_PAIRS`]).
+    /// balls and whose manifolds were found again (not [`still`](PairState::still):
+    /// see [`MIN_PARALLEL_MANIFOLD_PAIRS`]).
     pub fn manifold_pairs(&self) -> usize {
-        self.touching.iter().filter(|&&s| self.pairs.get(s as usize).is_some_and(|p| p.ball.is_none())).count()
+        self.touching.iter().filter(|&&s| self.pairs.get(s as usize).is_some_and(|p| p.ball.is_none() && !p.still)).count()
     }
 
     /// How many pairs are kept.

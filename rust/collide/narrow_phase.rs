@@ -90,6 +90,11 @@ impl PairState {
         ball.chain(self.manifolds.iter().enumerate().map(|(k, m)| (k as u32, Contacts::from(m))))
     }
 
+    /// Whether its manifolds are kept while the pair is still (see [`STILL`]).
+    pub fn keeps_manifolds(&self) -> bool {
+        self.computed_at.is_some()
+    }
+
     /// Manifold `index` (see [`PairState::contacts`]).
     pub fn manifold(&self, index: u32) -> Option<Contacts<'_>> {
         if index == BALL {

@@ -79,10 +79,6 @@ pub struct PairContext {
     pub pair: (u32, u32),
     /// Index of the pair in the narrow phase's `pairs`.
     pub slot: u32,
-    /// Twice how far body 1's orientation quaternion moved since the last
-    /// step's build (infinite if unknown): a bound on the turn of anything
-    /// fixed in it, per unit length.
-    pub turned: f64,
 }
 
 /// One contact point.
@@ -179,7 +175,8 @@ pub struct Constraint {
     pub joined: bool,
     /// How much further (m) the anchors computed afresh may move from its
     /// anchors before they stop holding, and the longest of its anchors (m,
-    /// at least 1): see [`super::reuse::still_slack`].
+    /// at least 1; 0 for a constraint whose pair never keeps its manifolds,
+    /// which is not tracked): see [`super::reuse::still_slack`].
     pub slack: f64,
     pub arm: f64,
     /// Kept from last step's constraint of a still pair without its points

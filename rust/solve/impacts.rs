@@ -117,7 +117,7 @@ impl ContactSolver {
         manifolds_of(c1, c2, &pos12, reach, (&mut manifolds, &mut None));
         let ctx = self.pair_context(colliders, b, pair, slot);
         let members = manifolds.iter().enumerate().map(|(m, manifold)| (m as u32, manifold.into()));
-        self.push_pair(members, &ctx, (false, false), reach);
+        self.push_pair(members, &ctx, (super::prepare::Carry::NONE, reach), b);
     }
 
     /// Simultaneous restitution impulses on the approaching points of `fresh`

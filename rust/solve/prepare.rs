@@ -38,6 +38,29 @@ pub struct Preparation {
     pub parallel: bool,
 }
 
+/// What a pair's constraints may carry over from last step's.
+#[derive(Clone, Copy)]
+pub(crate) struct Carry {
+    /// Start from the impulses the manifolds carry and keep last step's
+    /// geometry if it holds (not for an impact's contact).
+    pub warm: bool,
+    /// The manifolds are last step's (see `NarrowPhase::still`).
+    pub still: bool,
+    /// The pair keeps its manifolds while it is still: its constraints'
+    /// slack is tracked (see [`reuse::still_slack`]).
+    pub tracked: bool,
+}
+
+impl Carry {
+    /// A pair's, from its state (its constraints warm started).
+    fn of(state: &crate::collide::narrow_phase::PairState) -> Self {
+        Carry { warm: true, still: state.still, tracked: state.keeps_manifolds() }
+    }
+
+    /// An impact's contact: nothing carried over.
+    pub(crate) const NONE: Carry = Carry { warm: false, still: false, tracked: false };
+}
+
 /// Where one constraint goes, decided by the first pass.
 struct Job {
     /// Its pair's context in the pass's list.
@@ -58,6 +81,8 @@ struct Job {
 struct Shared<'a> {
     bodies: &'a [SolverBody],
     previous: &'a Previous,
+    /// The world's bodies (their orientations, for [`reuse::still_slack`]).
+    world: &'a Bodies,
 }
 
 impl ContactSolver {
@@ -70,7 +95,7 @@ impl ContactSolver {
         self.forget_groups();
         if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
             let (contexts, jobs, members) = self.place(narrow, colliders, b);
-            self.lay_out(narrow, &contexts, &jobs, &members);
+            self.lay_out(narrow, (&contexts, &jobs, &members), b);
             self.note_orientations(b);
         } else {
             self.constraints.clear();
@@ -81,7 +106,7 @@ impl ContactSolver {
             for &slot in &narrow.touching {
                 let state = &narrow.pairs[slot as usize];
                 let ctx = self.pair_context(colliders, b, state.key, slot);
-                self.push_pair(state.contacts(), &ctx, (true, state.still), state.prediction);
+                self.push_pair(state.contacts(), &ctx, (Carry::of(state), state.prediction), b);
             }
         }
         self.note_orientations(b);
@@ -145,7 +170,7 @@ impl ContactSolver {
 
     /// The second pass, over threads: each job's points, constraint and patch
     /// in its place.
-    fn lay_out(&mut self, narrow: &NarrowPhase, contexts: &[PairContext], jobs: &[Job], members: &[u32]) {
+    fn lay_out(&mut self, narrow: &NarrowPhase, (contexts, jobs, members): (&[PairContext], &[Job], &[u32]), world: &Bodies) {
         let points = jobs.last().map_or(0, |j| (j.start + j.len) as usize);
         // Every slot is written below: only those beyond the arrays' length
         // (two steps old) are zeroed first (zeroing them all was 5 % of a
@@ -162,7 +187,7 @@ impl ContactSolver {
             rest = tail;
         }
         let mut kept = std::mem::take(&mut self.previous.kept);
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous };
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world };
         let one = |((((j, pts), c), (f, shape)), k): ((((&Job, &mut &mut [Point]), &mut Constraint), (&mut Patch, &mut PatchShape)), &mut u32)| {
             let ctx = &contexts[j.ctx as usize];
             let state = &narrow.pairs[ctx.slot as usize];
@@ -185,7 +210,7 @@ impl ContactSolver {
             if group.len() != indices.len() {
                 return;
             }
-            let mut src = Source::new(ctx, group, true, state.prediction, state.still);
+            let mut src = Source::new(ctx, group, Carry::of(state), state.prediction);
             let mut slots = pts.iter_mut();
             let still = shared.still(j, &src, |p| slots.next().into_iter().for_each(|s| *s = p));
             if still.is_none() {
@@ -207,18 +232,18 @@ impl ContactSolver {
         self.previous.kept = kept;
     }
 
-    /// Notes each constrained body's orientation, for next step's
-    /// [`PairContext::turned`].
+    /// Notes the orientation of body 1 of each tracked constraint, for next
+    /// step's [`reuse::still_slack`].
     fn note_orientations(&mut self, b: &Bodies) {
         let at = &mut self.previous.built_at;
         if at.len() < b.len() {
             at.resize(b.len(), Quat::new(0.0, 0.0, 0.0, 0.0));
         }
-        for c in &self.constraints {
-            for i in [c.b1 as usize, c.b2 as usize] {
-                if let Some(q) = at.get_mut(i) {
-                    *q = b.q(i);
-                }
+        // Only body 1 of a tracked constraint is asked about (see
+        // `reuse::still_slack`).
+        for c in self.constraints.iter().filter(|c| c.arm > 0.0) {
+            if let Some(q) = at.get_mut(c.b1 as usize) {
+                *q = b.q(c.b1 as usize);
             }
         }
     }
@@ -280,10 +305,7 @@ impl ContactSolver {
                 self.bodies[s as usize].rounding = rounding;
             }
         }
-        let was = self.previous.built_at.get(b1).copied();
-        let turned = was.map_or(f64::INFINITY, |q| 2.0 * (b.q(b1) - q).norm());
         PairContext {
-            turned,
             s1,
             s2,
             b1: b1 as u32,
@@ -302,21 +324,20 @@ impl ContactSolver {
     /// Appends the constraints of a pair's manifolds (those of one normal
     /// together: see [`super::coplanar`]), of their points no further apart
     /// than `reach` (m); `warm`: start from the impulses the manifolds carry and
-    /// keep last step's geometry if it holds; `still`: the manifolds are last
-    /// step's (see `NarrowPhase::still`).
-    pub(crate) fn push_pair<'a>(&mut self, contacts: impl Iterator<Item = Member<'a>>, ctx: &PairContext, (warm, still): (bool, bool), reach: f64) {
-        each_group(contacts, ctx, reach, |group| self.push_group(group, ctx, (warm, still), reach));
+    /// keep last step's geometry if it holds (see [`Carry`]).
+    pub(crate) fn push_pair<'a>(&mut self, contacts: impl Iterator<Item = Member<'a>>, ctx: &PairContext, (carry, reach): (Carry, f64), world: &Bodies) {
+        each_group(contacts, ctx, reach, |group| self.push_group(group, ctx, (carry, reach), world));
     }
 
     /// Appends the constraint of a group of a pair's manifolds (see
     /// [`ContactSolver::push_pair`]).
-    fn push_group(&mut self, group: &[Member], ctx: &PairContext, (warm, still): (bool, bool), reach: f64) {
+    fn push_group(&mut self, group: &[Member], ctx: &PairContext, (carry, reach): (Carry, f64), world: &Bodies) {
         let len = group.iter().map(|(_, c)| within(c, reach)).sum();
-        let previous = if warm { self.previous.find(ctx.pair, group[0].0) } else { None };
+        let previous = if carry.warm { self.previous.find(ctx.pair, group[0].0) } else { None };
         let start = self.points.len() as u32;
         let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(ctx) };
-        let mut src = Source::new(ctx, group, warm, reach, still);
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous };
+        let mut src = Source::new(ctx, group, carry, reach);
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world };
         let points = &mut self.points;
         let kept_still = shared.still(&job, &src, |p| points.push(p));
         if kept_still.is_none() {
@@ -335,7 +356,7 @@ impl ContactSolver {
             shared.patch((patch, shape), &constraint, kept, &src, pts);
         }
         self.constraints.push(constraint);
-        if warm {
+        if carry.warm {
             self.previous.kept.push(kept.map_or(reuse::NONE, |o| o as u32));
         }
     }
@@ -385,15 +406,17 @@ struct Source<'a, 'b> {
     reach: f64,
     /// World normal: the first manifold's.
     normal: Vec3,
-    /// The pair's manifolds are last step's (see `NarrowPhase::still`).
+    /// See [`Carry`].
     still: bool,
+    tracked: bool,
 }
 
 impl<'a, 'b> Source<'a, 'b> {
     /// A still pair's normal is found only if its constraint cannot be kept
     /// as it was (see [`Self::find_normal`]).
-    fn new(ctx: &'a PairContext, members: &'a [Member<'b>], warm: bool, reach: f64, still: bool) -> Self {
-        let mut src = Source { ctx, members, warm, reach, normal: Vec3::zeros(), still };
+    fn new(ctx: &'a PairContext, members: &'a [Member<'b>], carry: Carry, reach: f64) -> Self {
+        let Carry { warm, still, tracked } = carry;
+        let mut src = Source { ctx, members, warm, reach, normal: Vec3::zeros(), still, tracked };
         if !still {
             src.find_normal();
         }
@@ -502,10 +525,14 @@ impl Shared<'_> {
                 (n, t1, n.cross(&t1))
             }
         };
-        // An impact's contact (built after the step's orientations are noted)
-        // is never kept without the check.
-        let (slack, arm) = reuse::slack_of(pts, kept.map_or(0.0, |(_, w)| w));
-        let slack = if src.warm { slack } else { f64::NEG_INFINITY };
+        // Tracked only where a later step may keep it as still (not an
+        // impact's contact, built after the step's orientations are noted, nor
+        // a pair of balls: its room costs a square root a contact).
+        let (slack, arm) = if src.warm && src.tracked {
+            reuse::slack_of(pts, kept.map_or(0.0, |(_, w)| w))
+        } else {
+            (f64::NEG_INFINITY, 0.0)
+        };
         (Self::assemble(job, src, basis, (slack, arm)), kept.map(|(o, _)| o))
     }
 
@@ -525,7 +552,8 @@ impl Shared<'_> {
     #[inline(always)]
     fn still(&self, job: &Job, src: &Source, put: impl FnMut(Point)) -> Option<(usize, f64)> {
         let o = job.previous.filter(|_| src.still && src.warm)?;
-        let slack = reuse::still_slack(self.previous, self.bodies, o, src.ctx, job.len)?;
+        let q1 = self.world.q(src.ctx.b1 as usize);
+        let slack = reuse::still_slack(self.previous, self.bodies, o, src.ctx, (job.len, q1))?;
         let c = &self.previous.constraints[o];
         let old = &self.previous.points[c.start as usize..(c.start + c.len) as usize];
         src.still_points(old, &c.normal, put).then_some((o, slack))

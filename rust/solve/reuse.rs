@@ -129,9 +129,11 @@ const STILL_MARGIN: f64 = 1e3 * crate::collide::narrow_phase::STILL;
 /// (a resting pyramid of 820 boxes spent a third of its step building its
 /// constraints).
 #[inline]
-pub(crate) fn still_slack(p: &Previous, bodies: &[SolverBody], oi: usize, ctx: &PairContext, len: u32) -> Option<f64> {
+pub(crate) fn still_slack(p: &Previous, bodies: &[SolverBody], oi: usize, ctx: &PairContext, (len, q1): (u32, Quat)) -> Option<f64> {
     let o = &p.constraints[oi];
-    let slack = o.slack - ctx.turned * o.arm;
+    // Body 1's turn since the last build (none known: no keeping).
+    let turned = p.built_at.get(ctx.b1 as usize).map_or(f64::INFINITY, |q| 2.0 * (q1 - q).norm());
+    let slack = o.slack - turned * o.arm;
     (o.as_built && o.len == len && slack >= STILL_MARGIN * o.arm && same_bodies(p, bodies, o, ctx)).then_some(slack)
 }
 

@@ -51,15 +51,36 @@ pub struct ContactMaterial {
 
 pub fn combine(a: &Material, b: &Material) -> ContactMaterial {
     ContactMaterial {
-        friction: (a.friction * b.friction).sqrt(),
-        static_friction: (a.static_friction * b.static_friction).sqrt(),
+        friction: geometric_mean(a.friction, b.friction),
+        static_friction: geometric_mean(a.static_friction, b.static_friction),
         restitution: a.restitution.max(b.restitution),
+    }
+}
+
+/// `√(x y)`, and `x` itself for two equal values: the square root of a
+/// double's square is the double (when the square neither overflows nor
+/// underflows), so most scenes, one material throughout, keep their bits and
+/// skip two square roots a contact pair a step.
+fn geometric_mean(x: f64, y: f64) -> f64 {
+    if x == y {
+        x
+    } else {
+        (x * y).sqrt()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_mean_of_equal_values_is_their_square_root_of_the_square() {
+        // The shortcut gives the bits the square root gave.
+        for k in 0..100_000 {
+            let x = (k as f64 * 0.618034).fract() * 10f64.powi(k % 40 - 20);
+            assert_eq!(geometric_mean(x, x).to_bits(), (x * x).sqrt().to_bits(), "{x}");
+        }
+    }
 
     #[test]
     fn equal_materials_keep_their_values() {

@@ -627,6 +627,10 @@ impl Shared<'_> {
 /// orientation `q`.
 fn surface_of(c: &Collider, q: &Quat) -> (Surface, Rounding) {
     use parry3d_f64::shape::TypedShape;
+    // A ball known without asking its shape (twice a pair in a ball pit).
+    if c.ball.is_some() {
+        return (Surface::Ball, Rounding::default());
+    }
     match c.shape.as_typed_shape() {
         TypedShape::Ball(_) => (Surface::Ball, Rounding::default()),
         TypedShape::Capsule(k) => (Surface::Rounded, Rounding { radius: k.radius, axis: Vec3::zeros() }),

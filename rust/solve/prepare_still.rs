@@ -79,7 +79,6 @@ impl Source<'_, '_> {
         }
         old.next().is_none()
     }
-
 }
 
 impl Shared<'_> {
@@ -105,5 +104,4 @@ impl Shared<'_> {
         let old = &self.previous.points[c.start as usize..(c.start + c.len) as usize];
         src.still_points(old, &c.normal, put).then_some((o, slack))
     }
-
 }

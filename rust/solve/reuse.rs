@@ -46,7 +46,8 @@ pub struct Previous {
     pub block_of: Vec<u32>,
     /// Per world body: the orientation its inertia is taken at.
     pub orientation: Vec<Quat>,
-    /// Per world body in a constraint last step: its orientation then.
+    /// Per world body that was body 1 of a tracked constraint (see
+    /// `still_slack`) last step: its orientation then.
     pub built_at: Vec<Quat>,
 }
 

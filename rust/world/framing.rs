@@ -32,7 +32,7 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 13: the relative pose and prediction each pair's manifolds were computed
 /// at (kept while the pair is still: see `collide::narrow_phase::STILL`).
 /// 14: each constraint's slack, arm and whether it was kept as still, and
-/// each constrained body's orientation at the last build (see
+/// the orientation at the last build of each tracked constraint's body 1 (see
 /// `solve::reuse::still_slack`).
 pub const FORMAT_VERSION: u32 = 14;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");

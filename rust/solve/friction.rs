@@ -166,7 +166,14 @@ impl Patch {
     pub fn rub(&mut self, shape: &PatchShape, c: &Constraint, v: [f64; 2], w: f64, jn: f64) -> ([f64; 2], f64) {
         let lever = self.lever;
         let w = if lever > 0.0 { w } else { 0.0 };
-        let d = mul3(&self.friction_mass, [-v[0], -v[1], -w]);
+        // Without a lever the twist's row and column are zero: the tangent
+        // block alone gives the same sums.
+        let d = if lever > 0.0 {
+            mul3(&self.friction_mass, [-v[0], -v[1], -w])
+        } else {
+            let k = &self.friction_mass;
+            [k[0] * -v[0] + k[1] * -v[1], k[1] * -v[0] + k[3] * -v[1], 0.0]
+        };
         let cand = [self.impulse[0] + d[0], self.impulse[1] + d[1]];
         let cand_twist = if lever > 0.0 { self.twist + d[2] } else { 0.0 };
         let (f, t) = self.settle(shape, c, cand, cand_twist, v, w, jn);
@@ -418,7 +425,9 @@ fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), 
     f.impulse = l;
     f.twist = twist;
     pair.apply_patch(c, f, d);
-    pair.apply_twist(f, dt);
+    if dt != 0.0 {
+        pair.apply_twist(f, dt);
+    }
     pair.store(bodies, c);
     d != [0.0; 2] || dt != 0.0
 }

@@ -441,10 +441,14 @@ impl ContactSolver {
             // so that its patches' drift starts or stops with it (a ball's points
             // have none: see `chord_gap`): a can whose
             // spin friction stopped within a step kept its chord and was pushed
-            // at 1e-8 m/s as it came to rest.
-            let turn = chord(s.w / self.inv_h);
-            let new_turn = (turn == Vec3::zeros()) != (s.chord == Vec3::zeros()) && s.surface != Surface::Ball;
-            s.chord = turn;
+            // at 1e-8 m/s as it came to rest. A ball has no use for its chord
+            // (three divisions a ball and gather in a ball pit).
+            let new_turn = s.surface != Surface::Ball && {
+                let turn = chord(s.w / self.inv_h);
+                let new = (turn == Vec3::zeros()) != (s.chord == Vec3::zeros());
+                s.chord = turn;
+                new
+            };
             s.dp = Vec3::from(b.position[i]) - self.p0[k];
             s.dq = b.q(i) * self.q0[k].conjugate();
             // A ball's contact geometry does not turn with it (its points stay

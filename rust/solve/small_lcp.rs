@@ -41,9 +41,8 @@ pub struct Factor {
     /// The pushing points, in order, and how many.
     idx: [usize; MAX_POINTS],
     m: usize,
-    /// Their `K`, `m × m` at stride `MAX_POINTS` (read every refinement round:
-    /// picked out of the face's `K` through `idx` each time, it was a third
-    /// of a tumbling pile's small solves).
+    /// Their `K`, `m × m` at stride `MAX_POINTS`: laid out once a set, not
+    /// picked out of the face's `K` through `idx` at every refinement round.
     k: [f64; MAX_POINTS * MAX_POINTS],
     l: [f64; MAX_POINTS * MAX_POINTS],
 }

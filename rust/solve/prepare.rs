@@ -380,15 +380,16 @@ impl<'a, 'b> Source<'a, 'b> {
     /// as it was (see [`Self::find_normal`]).
     fn new(ctx: &'a PairContext, members: &'a [Member<'b>], carry: Carry, reach: f64) -> Self {
         let Carry { warm, still, tracked } = carry;
-        let mut src = Source { ctx, members, warm, reach, normal: Vec3::zeros(), still, tracked };
-        if !still {
-            src.find_normal();
-        }
-        src
+        let normal = if still { Vec3::zeros() } else { coplanar::normal_of(ctx, &members[0].1) };
+        Source { ctx, members, warm, reach, normal, still, tracked }
     }
 
+    /// The normal, for a still pair whose constraint could not be kept (the
+    /// others found it in [`Self::new`]).
     fn find_normal(&mut self) {
-        self.normal = coplanar::normal_of(self.ctx, &self.members[0].1);
+        if self.still {
+            self.normal = coplanar::normal_of(self.ctx, &self.members[0].1);
+        }
     }
 
     /// Every point of the manifolds, within reach or not.

@@ -31,25 +31,19 @@ const REGULARIZATION: f64 = 1e-8;
 /// take it back (shared with [`super::active_set`]).
 pub const SLOW: f64 = 1e-9;
 
-/// The set of points that pushed in the last answer of one face, their `K`
-/// laid out together and its Cholesky factor, kept between the sweeps of a
-/// projected Gauss–Seidel solve (whose `K` stays the same): a face whose points
-/// keep their sides is solved again without factoring.
+/// The set of points that pushed in the last answer of one face and the
+/// Cholesky factor of their `K`, kept between the sweeps of a projected
+/// Gauss–Seidel solve (whose `K` stays the same): a face whose points keep
+/// their sides is solved again without factoring.
 #[derive(Clone, Copy)]
 pub struct Factor {
     push: u32,
-    /// The pushing points, in order, and how many.
-    idx: [usize; MAX_POINTS],
-    m: usize,
-    /// Their `K`, `m × m` at stride `MAX_POINTS`: laid out once a set, not
-    /// picked out of the face's `K` through `idx` at every refinement round.
-    k: [f64; MAX_POINTS * MAX_POINTS],
     l: [f64; MAX_POINTS * MAX_POINTS],
 }
 
 impl Default for Factor {
     fn default() -> Self {
-        Factor { push: NONE, idx: [0; MAX_POINTS], m: 0, k: [0.0; MAX_POINTS * MAX_POINTS], l: [0.0; MAX_POINTS * MAX_POINTS] }
+        Factor { push: NONE, l: [0.0; MAX_POINTS * MAX_POINTS] }
     }
 }
 
@@ -60,25 +54,6 @@ impl Factor {
     /// Drops the factored set (for a new `K`).
     pub fn forget(&mut self) {
         self.push = NONE;
-    }
-
-    /// Lays out and factors the pushing set `push` of `k` (`n × n`); false if
-    /// its `K + eps I` is not positive definite.
-    fn factor(&mut self, k: &[f64], n: usize, push: u32, eps: f64) -> bool {
-        self.m = pushing(n, push, &mut self.idx);
-        let (m, idx) = (self.m, &self.idx);
-        for p in 0..m {
-            for q in 0..m {
-                self.k[p * MAX_POINTS + q] = k[idx[p] * n + idx[q]];
-            }
-        }
-        self.push = push;
-        if factor_pushing(&self.k, m, eps, &mut self.l) {
-            true
-        } else {
-            self.push = NONE;
-            false
-        }
     }
 }
 
@@ -105,10 +80,14 @@ pub fn small_lcp_with(k: &[f64], b: &[f64], x: &mut [f64], f: &mut Factor) -> bo
     let mut push = if f.push == NONE { (0..n).filter(|&i| b[i] < 0.0).fold(0u32, |m, i| m | 1 << i) } else { f.push };
     let mut y = [0.0; MAX_POINTS];
     for _ in 0..ROUNDS {
-        if push != f.push && !f.factor(k, n, push, eps) {
-            return false;
+        if push != f.push {
+            if !factor_pushing(k, n, push, eps, &mut f.l) {
+                f.push = NONE;
+                return false;
+            }
+            f.push = push;
         }
-        solve_pushing(f, b, &mut y[..n]);
+        solve_pushing(k, b, push, &f.l, &mut y[..n]);
         let mut next = push;
         for i in 0..n {
             if push & 1 << i != 0 && y[i] < 0.0 {
@@ -117,8 +96,7 @@ pub fn small_lcp_with(k: &[f64], b: &[f64], x: &mut [f64], f: &mut Factor) -> bo
         }
         if next == push {
             for i in 0..n {
-                // Only the pushing points' impulses are not zero.
-                let w: f64 = f.idx[..f.m].iter().map(|&j| k[i * n + j] * y[j]).sum::<f64>() + b[i];
+                let w: f64 = (0..n).map(|j| k[i * n + j] * y[j]).sum::<f64>() + b[i];
                 if push & 1 << i == 0 && w < -slow {
                     next |= 1 << i;
                 }
@@ -145,12 +123,14 @@ fn pushing(n: usize, push: u32, idx: &mut [usize; MAX_POINTS]) -> usize {
     m
 }
 
-/// Cholesky factor `l` of `K + eps I` for the pushing points' `k` (`m × m` at
-/// stride `MAX_POINTS`); false if it is not positive definite.
-fn factor_pushing(k: &[f64; MAX_POINTS * MAX_POINTS], m: usize, eps: f64, l: &mut [f64; MAX_POINTS * MAX_POINTS]) -> bool {
+/// Cholesky factor `l` of the pushing points' `K + eps I`; false if it is not
+/// positive definite.
+fn factor_pushing(k: &[f64], n: usize, push: u32, eps: f64, l: &mut [f64; MAX_POINTS * MAX_POINTS]) -> bool {
+    let mut idx = [0usize; MAX_POINTS];
+    let m = pushing(n, push, &mut idx);
     for p in 0..m {
         for q in 0..=p {
-            let mut v = k[p * MAX_POINTS + q] + if p == q { eps } else { 0.0 };
+            let mut v = k[idx[p] * n + idx[q]] + if p == q { eps } else { 0.0 };
             for r in 0..q {
                 v -= l[p * MAX_POINTS + r] * l[q * MAX_POINTS + r];
             }
@@ -167,10 +147,11 @@ fn factor_pushing(k: &[f64; MAX_POINTS * MAX_POINTS], m: usize, eps: f64, l: &mu
     true
 }
 
-/// `y` with the points not pushing at zero and the pushing ones (of `f`) at
-/// `w = 0`.
-fn solve_pushing(f: &Factor, b: &[f64], y: &mut [f64]) {
-    let (m, idx) = (f.m, &f.idx);
+/// `y` with the points not pushing at zero and the pushing ones at `w = 0`.
+fn solve_pushing(k: &[f64], b: &[f64], push: u32, l: &[f64; MAX_POINTS * MAX_POINTS], y: &mut [f64]) {
+    let n = b.len();
+    let mut idx = [0usize; MAX_POINTS];
+    let m = pushing(n, push, &mut idx);
     y.iter_mut().for_each(|v| *v = 0.0);
     // The regularized answer, then refined against the exact `K`: each round
     // leaves eps / (eps + λ) of the error along an eigenvalue λ of the face,
@@ -180,10 +161,10 @@ fn solve_pushing(f: &Factor, b: &[f64], y: &mut [f64]) {
     let mut r = [0.0; MAX_POINTS];
     for _ in 0..2 {
         for p in 0..m {
-            let kz: f64 = (0..m).map(|q| f.k[p * MAX_POINTS + q] * z[q]).sum();
+            let kz: f64 = (0..m).map(|q| k[idx[p] * n + idx[q]] * z[q]).sum();
             r[p] = -b[idx[p]] - kz;
         }
-        cholesky_solve(&f.l, m, &mut r);
+        cholesky_solve(l, m, &mut r);
         for p in 0..m {
             z[p] += r[p];
         }

@@ -198,10 +198,7 @@ impl ContactSolver {
                 let mut slots = pts.iter_mut();
                 src.points(|p| slots.next().into_iter().for_each(|s| *s = p));
             }
-            let (constraint, kept) = match still {
-                Some(kept) => shared.kept_still(j, &src, kept),
-                None => shared.constraint(j, &src, pts),
-            };
+            let (constraint, kept) = shared.constraint_or_still(j, &src, still, pts);
             shared.patch((f, shape), &constraint, kept, &src, pts);
             *c = constraint;
             *k = kept.map_or(reuse::NONE, |o| o as u32);
@@ -310,10 +307,7 @@ impl ContactSolver {
             src.points(|p| points.push(p));
         }
         let pts = &mut self.points[start as usize..];
-        let (constraint, kept) = match kept_still {
-            Some(kept) => shared.kept_still(&job, &src, kept),
-            None => shared.constraint(&job, &src, pts),
-        };
+        let (constraint, kept) = shared.constraint_or_still(&job, &src, kept_still, pts);
         self.patches.push(Patch::default());
         self.shapes.push(PatchShape::default());
         if let (Some(patch), Some(shape)) = (self.patches.last_mut(), self.shapes.last_mut()) {
@@ -442,6 +436,16 @@ impl<'a, 'b> Source<'a, 'b> {
 }
 
 impl Shared<'_> {
+    /// Last step's constraint, if [`Self::still`] kept it (`still`), else the
+    /// one of the points `pts` laid out; and last step's it kept, if any.
+    #[inline(always)]
+    fn constraint_or_still(&self, job: &Job, src: &Source, still: Option<(usize, f64)>, pts: &mut [Point]) -> (Constraint, Option<usize>) {
+        match still {
+            Some(kept) => self.kept_still(job, src, kept),
+            None => self.constraint(job, src, pts),
+        }
+    }
+
     /// The constraint of one manifold whose points `pts` are laid out, their
     /// arms and masses (kept from last step's constraint of the manifold when
     /// they hold, which it returns).

@@ -25,9 +25,12 @@ if [ ! -d "$work/base" ]; then
 else
     git -C "$work/base" checkout -q --detach "$rev"
 fi
-build() { (cd "$1" && CARGO_TARGET_DIR="$work/target" cargo build -q --profile dist --example contact_scenes) && cp "$work/target/dist/examples/contact_scenes" "$2"; }
-build "$work/base" "$work/cs_base"
-build "$root" "$work/cs_new"
+# Each build in its own target directory: sharing one, the second build's
+# example could be left as the first had uplifted it (both builds then ran
+# the base, and gave its hash twice).
+build() { (cd "$1" && CARGO_TARGET_DIR="$2" cargo build -q --profile dist --example contact_scenes) && cp "$2/dist/examples/contact_scenes" "$3"; }
+build "$work/base" "$work/target-base" "$work/cs_base"
+build "$root" "$work/target-new" "$work/cs_new"
 export THREADS=${THREADS:-1} WINDOW=100000000
 for b in base new; do
     echo "$b: $("$work/cs_$b" "$scene" "$steps" | grep -oE 'state [0-9a-f]+')"

@@ -43,7 +43,7 @@ def free_bodies(n: int = 13_000) -> rr.World:
 # and the constraints' build over threads (`MIN_PARALLEL_PAIRS` in
 # narrow_phase.rs). A step with support islands to sweep side by side goes
 # there too: the heap's, checked in Rust (`island_sweeps.rs`).
-PARALLEL_PAIRS = 2048
+PARALLEL_PAIRS = 4096
 # Pairs of shapes other than two balls, their manifolds found again, from
 # which a step goes there too (`MIN_PARALLEL_MANIFOLD_PAIRS`): their manifolds
 # cost far more to find and build. (A pyramid at rest keeps its manifolds: it

@@ -170,7 +170,16 @@ enum Found {
 /// were slower; since the build takes a third of its step (2026-12-05, five
 /// runs of 1200 steps each way on two threads, medians): 353 steps/s on the
 /// pool from 2048 pairs, 334 from 8192 (narrow phase 1000 → 790 µs a step).
-pub const MIN_PARALLEL_PAIRS: usize = 2048;
+/// On the same kind of machine a session later (2026-12-05 23:20, five
+/// interleaved runs of 600 steps each way on two threads) the pool lost: 317
+/// steps/s against 344, its narrow phase no faster (1008 µs against 1000,
+/// the pool's thread doing 12 % of the step) and the serial passes slower
+/// after it (the constraints it built read from its cache); the 3000-ball
+/// pit (8600 pairs) 77 against 78. Where the pool's gain is a few percent on
+/// one day and a loss on another, a step stays on the calling thread, which
+/// is never slower than one thread: a 1000-ball pit does, a 3000-ball pit
+/// still goes to the pool.
+pub const MIN_PARALLEL_PAIRS: usize = 4096;
 
 /// Touching pairs of shapes other than two balls, their manifolds found
 /// again (not still), from which a step runs on the pool too: parry clips

@@ -82,37 +82,35 @@ pub struct PairContext {
 }
 
 /// One contact point.
+///
+/// Laid out (`repr(C)`, a cache line each) by what the passes read of it:
+/// the warm start its angular arms and impulses, the normal solve its arms
+/// across the normal, effective mass and the anchors of its separation; the
+/// rest after them.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
+#[repr(C, align(64))]
 pub struct Point {
+    /// `I⁻¹ (r × n)` of each body.
+    pub irn1: Vec3,
+    pub irn2: Vec3,
+    /// Accumulated normal impulse of the current substep (N·s).
+    pub normal_impulse: f64,
+    /// Normal impulse summed over the step, for reporting (N·s).
+    pub total_normal: f64,
+    /// `r × n` of each body.
+    pub rn1: Vec3,
+    pub rn2: Vec3,
+    /// `1/K` with `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` (kg).
+    pub normal_mass: f64,
+    /// Separation at the step start minus `n·(anchor2 − anchor1)` (m).
+    pub base_separation: f64,
     /// Anchors relative to each centre of mass at the step start, world (m).
     pub anchor1: Vec3,
     pub anchor2: Vec3,
-    /// Current arms from each centre of mass to the contact point (m): both end at
-    /// the same world point, midway between the anchors as the bodies have moved,
-    /// so equal and opposite impulses keep angular momentum exactly.
-    pub r1: Vec3,
-    pub r2: Vec3,
-    /// `r × n` and `I⁻¹ (r × n)` of each body.
-    pub rn1: Vec3,
-    pub rn2: Vec3,
-    pub irn1: Vec3,
-    pub irn2: Vec3,
-    /// Separation at the step start minus `n·(anchor2 − anchor1)` (m).
-    pub base_separation: f64,
-    /// Separation at the step start (m); negative when penetrating.
-    pub separation: f64,
-    /// World contact point at the step start, midway between the surfaces (m).
-    pub point: Vec3,
-    /// `1/K` with `K = 1/m1 + 1/m2 + n·(I1⁻¹(r1×n)×r1 + I2⁻¹(r2×n)×r2)` (kg).
-    pub normal_mass: f64,
-    /// Accumulated normal impulse of the current substep (N·s).
-    pub normal_impulse: f64,
     /// How much further (m) the separation falls in the substep than its
     /// normal velocity carries it, on a rounded side (see
     /// [`super::rounded_curve`]); 0 elsewhere.
     pub curve: f64,
-    /// Normal impulse summed over the step, for reporting (N·s).
-    pub total_normal: f64,
     /// Index of its manifold in the pair (a constraint may gather several:
     /// see [`super::coplanar`]), and of the point in that manifold.
     pub manifold: u32,
@@ -124,14 +122,31 @@ pub struct Point {
     /// [`super::flush_pairs`]); 0 in any other.
     #[serde(default)]
     pub part: u8,
+    /// Current arms from each centre of mass to the contact point (m): both end at
+    /// the same world point, midway between the anchors as the bodies have moved,
+    /// so equal and opposite impulses keep angular momentum exactly.
+    pub r1: Vec3,
+    pub r2: Vec3,
+    /// Separation at the step start (m); negative when penetrating.
+    pub separation: f64,
+    /// World contact point at the step start, midway between the surfaces (m).
+    pub point: Vec3,
 }
 
 /// The points of one manifold, sharing bodies, normal and material.
+///
+/// Laid out (`repr(C)`, from a cache line's start) so that what every pass
+/// reads (bodies, points, normal, tangents, friction) fills its first two
+/// lines.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
+#[repr(C, align(64))]
 pub struct Constraint {
     /// Solver-body indices (0: fixed).
     pub s1: u32,
     pub s2: u32,
+    /// Range of the points in `ContactSolver::points`.
+    pub start: u32,
+    pub len: u32,
     /// World normal from body 1 to body 2, and the tangent basis.
     pub normal: Vec3,
     pub t1: Vec3,
@@ -139,9 +154,6 @@ pub struct Constraint {
     pub friction: f64,
     pub static_friction: f64,
     pub restitution: f64,
-    /// Range of the points in `ContactSolver::points`.
-    pub start: u32,
-    pub len: u32,
     /// Bodies, collider pair, its index in the narrow phase's `pairs`, and the
     /// manifold index it came from.
     pub b1: u32,

@@ -34,7 +34,9 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// 14: each constraint's slack, arm and whether it was kept as still, and
 /// the orientation at the last build of each tracked constraint's body 1 (see
 /// `solve::reuse::still_slack`).
-pub const FORMAT_VERSION: u32 = 14;
+/// 15: the contact points' and constraints' fields in the order the passes
+/// read them.
+pub const FORMAT_VERSION: u32 = 15;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

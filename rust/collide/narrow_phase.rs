@@ -162,23 +162,13 @@ enum Found {
 
 /// Pairs kept from the last step from which a step runs on the pool for its
 /// narrow phase and constraints' build alone (a step with support islands to
-/// sweep in parallel goes there anyway: see `solve::island_sweeps`). Measured
-/// on two cores: a step handed to the pool pays the hand-offs, the pool's
-/// idle spinning beside the serial solve and the reading of what one thread
-/// wrote from the other's cache. A 1000-ball pit (2900 pairs, 2550 of them two
-/// balls) stepped 0.88–1.0× its one-thread speed on the pool when its passes
-/// were slower; since the build takes a third of its step (2026-12-05, five
-/// runs of 1200 steps each way on two threads, medians): 353 steps/s on the
-/// pool from 2048 pairs, 334 from 8192 (narrow phase 1000 → 790 µs a step).
-/// On the same kind of machine a session later (2026-12-05 23:20, five
-/// interleaved runs of 600 steps each way on two threads) the pool lost: 317
-/// steps/s against 344, its narrow phase no faster (1008 µs against 1000,
-/// the pool's thread doing 12 % of the step) and the serial passes slower
-/// after it (the constraints it built read from its cache); the 3000-ball
-/// pit (8600 pairs) 77 against 78. Where the pool's gain is a few percent on
-/// one day and a loss on another, a step stays on the calling thread, which
-/// is never slower than one thread: a 1000-ball pit does, a 3000-ball pit
-/// still goes to the pool.
+/// sweep in parallel goes there anyway: see `solve::island_sweeps`). A step
+/// handed to the pool pays the hand-offs and the reading of what one thread
+/// wrote from the other's cache. The 1000-ball pit (2900 pairs) gained 6 % on
+/// the pool one day and lost 8 % the next (353 against 334 steps/s, then 317
+/// against 344, two cores; `benches/README.md`): where the gain is that
+/// uncertain, a step stays on the calling thread, never slower than one
+/// thread. A 3000-ball pit (8600 pairs) still goes to the pool.
 pub const MIN_PARALLEL_PAIRS: usize = 4096;
 
 /// Touching pairs of shapes other than two balls, their manifolds found

@@ -13,6 +13,7 @@
 use super::block::Scratch;
 use super::contact::ContactSolver;
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// Fewest blocks in the islands of a pass for it to be split over threads:
 /// below this, the hand-off costs more than the sweeps (a block's solve is a
@@ -27,6 +28,16 @@ pub struct Sweep {
     pub scratch: Scratch,
     pub solved: Vec<u32>,
     pub rocking: bool,
+}
+
+/// Each pool thread's [`Sweep`] (scratch only: a clone starts empty).
+#[derive(Default)]
+pub struct ThreadSweeps(Vec<Mutex<Sweep>>);
+
+impl Clone for ThreadSweeps {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
 }
 
 /// The solver, shared by the threads that sweep its islands (or pass over
@@ -94,19 +105,7 @@ impl ContactSolver {
         let split = islands.len() >= 2 && blocks >= MIN_PARALLEL_BLOCKS;
         self.support.split |= split;
         if self.wide() && split {
-            let solver = Solver(self as *mut ContactSolver);
-            let sweeps: Vec<Sweep> = islands
-                .par_iter()
-                .fold(Sweep::default, |mut sw, &i| {
-                    // SAFETY: each island is given to one thread (see `Solver`).
-                    work(unsafe { solver.get() }, i as usize, &mut sw);
-                    sw
-                })
-                .collect();
-            for sw in sweeps {
-                self.support.solved.extend_from_slice(&sw.solved);
-                self.support.rocking.seen |= sw.rocking;
-            }
+            self.sweep_in_parallel(islands, work);
         } else {
             let mut sw = std::mem::take(&mut self.support.sweep);
             sw.solved.clear();
@@ -118,6 +117,38 @@ impl ContactSolver {
             self.support.rocking.seen |= sw.rocking;
             self.support.sweep = sw;
         }
+    }
+
+    /// [`Self::in_islands`] on the pool's threads, an island at a time, each
+    /// thread with its own scratch. Islands share nothing: which thread
+    /// sweeps one changes no bits. Folded over rayon's halves and quarters,
+    /// each leaf growing a fresh scratch, one thread of two sat idle for a
+    /// quarter of the sweeps of a tumbling 4000-cube pile (busy 6.1 and
+    /// 4.7 s of 6.3 s).
+    fn sweep_in_parallel(&mut self, islands: &[u32], work: impl Fn(&mut ContactSolver, usize, &mut Sweep) + Sync) {
+        let threads = rayon::current_num_threads().max(1);
+        let ThreadSweeps(mut scratch) = std::mem::take(&mut self.support.thread_sweeps);
+        if scratch.len() < threads {
+            scratch.resize_with(threads, Default::default);
+        }
+        let solver = Solver(self as *mut ContactSolver);
+        islands.par_iter().with_max_len(1).for_each(|&i| {
+            let t = rayon::current_thread_index().unwrap_or(0).min(threads - 1);
+            // Each pool thread takes only its own: the lock is never contended
+            // (`work` makes no rayon call that could run another island on
+            // this thread while it holds its scratch).
+            let mut sw = scratch[t].lock().unwrap_or_else(|e| e.into_inner());
+            // SAFETY: each island is given to one thread (see `Solver`).
+            work(unsafe { solver.get() }, i as usize, &mut sw);
+        });
+        for m in &mut scratch {
+            let sw = m.get_mut().unwrap_or_else(|e| e.into_inner());
+            self.support.solved.extend_from_slice(&sw.solved);
+            self.support.rocking.seen |= sw.rocking;
+            sw.solved.clear();
+            sw.rocking = false;
+        }
+        self.support.thread_sweeps = ThreadSweeps(scratch);
     }
 
     /// The two sweeps over island `i`'s blocks: bottom up, then top down a

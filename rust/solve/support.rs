@@ -103,9 +103,12 @@ pub struct Support {
     /// [`super::quiet`]). [`RESIDUAL`] of the velocity gravity gives in a
     /// substep.
     pub residual: f64,
-    /// The serial sweeps' scratch (see [`super::island_sweeps`]).
+    /// The serial sweeps' scratch, and each pool thread's (see
+    /// [`super::island_sweeps`]).
     #[serde(skip)]
     pub(crate) sweep: super::island_sweeps::Sweep,
+    #[serde(skip)]
+    pub(crate) thread_sweeps: super::island_sweeps::ThreadSweeps,
     /// Per row: impulse kept back for the lower body, and the impulse before
     /// the sweeps of a pass (of the blocks solved in it).
     pub debt: Vec<f64>,

@@ -230,15 +230,19 @@ mod tests {
 
     /// The heap's islands are swept, and its groups of contacts passed over,
     /// in parallel on two threads (checked, so that the test tests that), and
-    /// every step ends in the same bits as on one thread.
+    /// every step ends in the same bits as on one thread; on three (more
+    /// threads than this machine's cores, each with its own sweep scratch)
+    /// too.
     #[test]
     fn islands_and_groups_solved_in_parallel_give_the_bits_of_one_thread() {
-        let (mut one, mut two) = (heap(1), heap(2));
+        let (mut one, mut two, mut three) = (heap(1), heap(2), heap(3));
         let (mut wide_steps, mut group_steps) = (0, 0);
         for _ in 0..40 {
             one.step(1).unwrap();
             two.step(1).unwrap();
+            three.step(1).unwrap();
             assert!(bits(&one) == bits(&two));
+            assert!(bits(&one) == bits(&three));
             let solver = |w: &World| w.collision.as_ref().map(|c| (c.solver.wide(), c.solver.by_groups()));
             let (wide, groups) = solver(&two).unwrap_or_default();
             wide_steps += wide as u32;

@@ -36,6 +36,17 @@ pub struct Sweep {
     pub rocking: bool,
 }
 
+impl Sweep {
+    /// Adds the blocks solved and the rocking seen to the pass's, and starts
+    /// afresh.
+    fn hand_over(&mut self, support: &mut super::support::Support) {
+        support.solved.extend_from_slice(&self.solved);
+        support.rocking.seen |= self.rocking;
+        self.solved.clear();
+        self.rocking = false;
+    }
+}
+
 /// Each pool thread's [`Sweep`] (scratch only: a clone starts empty).
 #[derive(Default)]
 pub struct ThreadSweeps(Vec<Mutex<Sweep>>);
@@ -114,13 +125,10 @@ impl ContactSolver {
             self.sweep_in_parallel(islands, work);
         } else {
             let mut sw = std::mem::take(&mut self.support.sweep);
-            sw.solved.clear();
-            sw.rocking = false;
             for &i in islands {
                 work(self, i as usize, &mut sw);
             }
-            self.support.solved.extend_from_slice(&sw.solved);
-            self.support.rocking.seen |= sw.rocking;
+            sw.hand_over(&mut self.support);
             self.support.sweep = sw;
         }
     }
@@ -151,11 +159,7 @@ impl ContactSolver {
             work(unsafe { solver.get() }, i as usize, &mut sw);
         });
         for m in &mut scratch {
-            let sw = m.get_mut().unwrap_or_else(|e| e.into_inner());
-            self.support.solved.extend_from_slice(&sw.solved);
-            self.support.rocking.seen |= sw.rocking;
-            sw.solved.clear();
-            sw.rocking = false;
+            m.get_mut().unwrap_or_else(|e| e.into_inner()).hand_over(&mut self.support);
         }
         self.support.thread_sweeps = ThreadSweeps(scratch);
     }

@@ -39,11 +39,15 @@ pub const SLOW: f64 = 1e-9;
 pub struct Factor {
     push: u32,
     l: [f64; MAX_POINTS * MAX_POINTS],
+    /// The reciprocals of `l`'s diagonal: the solves multiply by them (a
+    /// division on the solves' chain of dependences took four times as long
+    /// as a product, twice per point and round).
+    inv: [f64; MAX_POINTS],
 }
 
 impl Default for Factor {
     fn default() -> Self {
-        Factor { push: NONE, l: [0.0; MAX_POINTS * MAX_POINTS] }
+        Factor { push: NONE, l: [0.0; MAX_POINTS * MAX_POINTS], inv: [0.0; MAX_POINTS] }
     }
 }
 
@@ -81,13 +85,13 @@ pub fn small_lcp_with(k: &[f64], b: &[f64], x: &mut [f64], f: &mut Factor) -> bo
     let mut y = [0.0; MAX_POINTS];
     for _ in 0..ROUNDS {
         if push != f.push {
-            if !factor_pushing(k, n, push, eps, &mut f.l) {
+            if !factor_pushing(k, n, push, eps, f) {
                 f.push = NONE;
                 return false;
             }
             f.push = push;
         }
-        solve_pushing(k, b, push, &f.l, &mut y[..n]);
+        solve_pushing(k, b, push, f, &mut y[..n]);
         let mut next = push;
         for i in 0..n {
             if push & 1 << i != 0 && y[i] < 0.0 {
@@ -95,9 +99,9 @@ pub fn small_lcp_with(k: &[f64], b: &[f64], x: &mut [f64], f: &mut Factor) -> bo
             }
         }
         if next == push {
-            for i in 0..n {
+            for i in (0..n).filter(|&i| push & 1 << i == 0) {
                 let w: f64 = (0..n).map(|j| k[i * n + j] * y[j]).sum::<f64>() + b[i];
-                if push & 1 << i == 0 && w < -slow {
+                if w < -slow {
                     next |= 1 << i;
                 }
             }
@@ -123,11 +127,12 @@ fn pushing(n: usize, push: u32, idx: &mut [usize; MAX_POINTS]) -> usize {
     m
 }
 
-/// Cholesky factor `l` of the pushing points' `K + eps I`; false if it is not
-/// positive definite.
-fn factor_pushing(k: &[f64], n: usize, push: u32, eps: f64, l: &mut [f64; MAX_POINTS * MAX_POINTS]) -> bool {
+/// Cholesky factor `f.l` of the pushing points' `K + eps I`; false if it is
+/// not positive definite.
+fn factor_pushing(k: &[f64], n: usize, push: u32, eps: f64, f: &mut Factor) -> bool {
     let mut idx = [0usize; MAX_POINTS];
     let m = pushing(n, push, &mut idx);
+    let (l, inv) = (&mut f.l, &mut f.inv);
     for p in 0..m {
         for q in 0..=p {
             let mut v = k[idx[p] * n + idx[q]] + if p == q { eps } else { 0.0 };
@@ -139,8 +144,9 @@ fn factor_pushing(k: &[f64], n: usize, push: u32, eps: f64, l: &mut [f64; MAX_PO
                     return false;
                 }
                 l[p * MAX_POINTS + p] = v.sqrt();
+                inv[p] = 1.0 / l[p * MAX_POINTS + p];
             } else {
-                l[p * MAX_POINTS + q] = v / l[q * MAX_POINTS + q];
+                l[p * MAX_POINTS + q] = v * inv[q];
             }
         }
     }
@@ -148,7 +154,7 @@ fn factor_pushing(k: &[f64], n: usize, push: u32, eps: f64, l: &mut [f64; MAX_PO
 }
 
 /// `y` with the points not pushing at zero and the pushing ones at `w = 0`.
-fn solve_pushing(k: &[f64], b: &[f64], push: u32, l: &[f64; MAX_POINTS * MAX_POINTS], y: &mut [f64]) {
+fn solve_pushing(k: &[f64], b: &[f64], push: u32, f: &Factor, y: &mut [f64]) {
     let n = b.len();
     let mut idx = [0usize; MAX_POINTS];
     let m = pushing(n, push, &mut idx);
@@ -157,17 +163,20 @@ fn solve_pushing(k: &[f64], b: &[f64], push: u32, l: &[f64; MAX_POINTS * MAX_POI
     // leaves eps / (eps + λ) of the error along an eigenvalue λ of the face,
     // so the velocities come out exact to round-off while the load between
     // dependent points stays shared as the regularization shares it.
-    let mut z = [0.0; MAX_POINTS];
     let mut r = [0.0; MAX_POINTS];
-    for _ in 0..2 {
-        for p in 0..m {
-            let kz: f64 = (0..m).map(|q| k[idx[p] * n + idx[q]] * z[q]).sum();
-            r[p] = -b[idx[p]] - kz;
-        }
-        cholesky_solve(l, m, &mut r);
-        for p in 0..m {
-            z[p] += r[p];
-        }
+    for p in 0..m {
+        r[p] = -b[idx[p]];
+    }
+    cholesky_solve(f, m, &mut r);
+    let z = r;
+    for p in 0..m {
+        let kz: f64 = (0..m).map(|q| k[idx[p] * n + idx[q]] * z[q]).sum();
+        r[p] = -b[idx[p]] - kz;
+    }
+    cholesky_solve(f, m, &mut r);
+    let mut z = z;
+    for p in 0..m {
+        z[p] += r[p];
     }
     for p in 0..m {
         y[idx[p]] = z[p];
@@ -175,18 +184,19 @@ fn solve_pushing(k: &[f64], b: &[f64], push: u32, l: &[f64; MAX_POINTS * MAX_POI
 }
 
 /// Solves `L Lᵀ u = r` in place (`L` of [`factor_pushing`], `m` rows).
-fn cholesky_solve(l: &[f64; MAX_POINTS * MAX_POINTS], m: usize, r: &mut [f64; MAX_POINTS]) {
+fn cholesky_solve(f: &Factor, m: usize, r: &mut [f64; MAX_POINTS]) {
+    let (l, inv) = (&f.l, &f.inv);
     for p in 0..m {
         for q in 0..p {
             r[p] -= l[p * MAX_POINTS + q] * r[q];
         }
-        r[p] /= l[p * MAX_POINTS + p];
+        r[p] *= inv[p];
     }
     for p in (0..m).rev() {
         for q in p + 1..m {
             r[p] -= l[q * MAX_POINTS + p] * r[q];
         }
-        r[p] /= l[p * MAX_POINTS + p];
+        r[p] *= inv[p];
     }
 }
 

@@ -5,6 +5,9 @@
 //! it and compiles a [`world::World`]: struct-of-arrays state plus the pipeline of
 //! stages that this scene needs, and nothing else.
 
+#[macro_use]
+mod clone_in_place;
+
 pub mod articulation;
 pub mod body;
 pub mod collide;

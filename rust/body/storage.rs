@@ -16,7 +16,7 @@ pub enum BodyKind {
 }
 
 /// Per-body arrays. Index `i` of every field is body `i`.
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Bodies {
     /// Centre of mass, world frame (m).
     pub position: Vec<[f64; 3]>,
@@ -49,6 +49,8 @@ pub struct Bodies {
     /// Derived: world-frame inertia tensor `R I0 Rᵀ`, row-major (kg·m²).
     pub inertia_world: Vec<[f64; 9]>,
 }
+
+clone_in_place!(Bodies { position, orientation, linear_velocity, angular_velocity, force, torque, mass, inv_mass, inertia, inv_inertia, kind, sleeping, rotation, angular_momentum, inertia_world });
 
 /// The initial state and mass of one body, in its principal frame.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]

@@ -33,7 +33,7 @@ const COLUMNS_PER_BOX: usize = 4;
 /// moves to it: no flip-flopping between two similar axes.
 const AXIS_SWITCH: f64 = 1.5;
 
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct SweepAndPrune {
     pub(crate) axis: usize,
     /// Number of boxes of the last call (a new set picks its axis afresh).
@@ -47,6 +47,8 @@ pub struct SweepAndPrune {
     narrow: Vec<u32>,
     extents: Vec<f64>,
 }
+
+clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents });
 
 /// The grid of columns across the sweep axis.
 #[derive(Clone, Copy, Debug)]

@@ -18,7 +18,7 @@ use crate::solve::islands::Islands;
 use crate::solve::prepare::Preparation;
 use crate::solve::ContactSolver;
 
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct Collision {
     pub colliders: Vec<Collider>,
     finite: Vec<u32>,
@@ -57,6 +57,30 @@ pub struct Collision {
     /// pair to look at, and the pairs kept for waking bodies stay as they are.
     idle: bool,
 }
+
+clone_in_place!(Collision {
+    colliders,
+    finite,
+    infinite,
+    boxes,
+    fat,
+    boxed_at,
+    sap_pairs,
+    sap,
+    candidates,
+    merged,
+    changes,
+    narrow,
+    solver,
+    islands,
+    ccd,
+    ccd_start,
+    bouncy,
+    frictional,
+    margin,
+    jointed,
+    idle,
+});
 
 pub(crate) fn collider_of(i: usize, d: &BodyDesc) -> Option<Collider> {
     let (shape, pose) = (d.shape.as_ref()?, d.shape_pose);

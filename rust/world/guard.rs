@@ -14,7 +14,9 @@
 //! writable view of; per step: one pass of sums over positions and velocities
 //! (as the old end-of-call check); per checkpoint (every 1024 steps, 256
 //! logged calls or 64 MB of log, or after a change the log cannot hold, such
-//! as a restore): one clone of the world. Measured with callgrind over 300
+//! as a restore): one copy of the world, into the last checkpoint's arrays
+//! (see `crate::clone_in_place`: a million free boxes, 0.75 s a checkpoint
+//! against 3.8 s for a fresh clone). Measured with callgrind over 300
 //! `step(1)` calls: +0.06 % on the 210-box pyramid, +0.10 % on 1000 free bodies.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -105,7 +107,11 @@ impl Guard {
     }
 
     fn checkpoint(&mut self, w: &World, prepare: bool) {
-        self.checkpoint = Some(Box::new(w.clone()));
+        // Into the last checkpoint's buffers (see `crate::clone_in_place`).
+        match &mut self.checkpoint {
+            Some(cp) => cp.as_mut().clone_from(w),
+            None => self.checkpoint = Some(Box::new(w.clone())),
+        }
         self.calls.clear();
         self.calls.push(Call { inputs: None, prepare, steps: 0 });
         self.steps = 0;

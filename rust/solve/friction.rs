@@ -57,6 +57,17 @@ pub struct Patch {
     /// it, and inside the patch its 128 bytes were a quarter of what every
     /// friction pass streams through (a 1000-ball pit's patches have none).
     pub lever: f64,
+    /// The lever (m) of the friction against the spin about the normal of a
+    /// [`Constraint::central`] contact (a ball's): `3π/16` of the radius of
+    /// the Hertz patch its depth presses (see `super::prepare`); 0 elsewhere.
+    /// A point has no patch to twist, and a ball that rolls to and fro in the
+    /// groove of two others turns about both contacts' normals: without it,
+    /// nothing stopped that.
+    #[serde(default)]
+    pub spin: f64,
+    /// `1 / (n·(I1⁻¹ + I2⁻¹) n)`, the effective inertia of that spin (kg·m²).
+    #[serde(default)]
+    pub spin_mass: f64,
     /// Accumulated impulses of the current substep (N·s, N·m·s).
     pub impulse: [f64; 2],
     pub twist: f64,
@@ -88,7 +99,7 @@ impl Patch {
     /// field by field in place.
     pub fn take_geometry_of(&mut self, o: &Patch) {
         // Every field is set below: a new one fails to compile here.
-        let Patch { rt1: _, rt2: _, irt1: _, irt2: _, in1: _, in2: _, tangent_mass: _, friction_mass: _, lever: _, impulse: _, twist: _, total: _, sliding: _, settled: _, drift: _ } = o;
+        let Patch { rt1: _, rt2: _, irt1: _, irt2: _, in1: _, in2: _, tangent_mass: _, friction_mass: _, lever: _, spin: _, spin_mass: _, impulse: _, twist: _, total: _, sliding: _, settled: _, drift: _ } = o;
         self.rt1 = o.rt1;
         self.rt2 = o.rt2;
         self.irt1 = o.irt1;
@@ -98,6 +109,8 @@ impl Patch {
         self.tangent_mass = o.tangent_mass;
         self.friction_mass = o.friction_mass;
         self.lever = o.lever;
+        self.spin = o.spin;
+        self.spin_mass = o.spin_mass;
         self.drift = o.drift;
         self.impulse = [0.0; 2];
         self.twist = 0.0;
@@ -142,6 +155,8 @@ impl Patch {
         f.drift = [c.t1.dot(&gap), c.t2.dot(&gap)];
         f.in1 = a1.inv_i_mul(&c.normal);
         f.in2 = a2.inv_i_mul(&c.normal);
+        let k_spin = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
+        f.spin_mass = if k_spin > 0.0 { 1.0 / k_spin } else { 0.0 };
         let m = a1.inv_m + a2.inv_m;
         let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
         let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
@@ -183,6 +198,26 @@ impl Patch {
         let old = [self.impulse[0], self.impulse[1], if lever > 0.0 { self.twist } else { 0.0 }];
         let p = self.dissipating(c.friction * jn, old, [f[0], f[1], t], [v[0], v[1], w]);
         ([p[0], p[1]], p[2])
+    }
+
+    /// The spin impulse of a [`Constraint::central`] contact after one solve
+    /// at relative spin `w` (rad/s) about the normal, normal impulse `jn` and
+    /// friction impulse `l` just solved. A ball's contact point lies on its
+    /// normal, so the spin and the slip of the point do not move each other
+    /// and are solved apart; what the patch's Coulomb friction can give them
+    /// together is shared on the ellipsoidal limit surface,
+    /// `(|l|/μjn)² + (τ/(μjn·spin))² ≤ 1`, the spin taking what the force
+    /// leaves (a ball sliding at its cone resists no spin).
+    #[inline(always)]
+    fn resist_spin(&self, c: &Constraint, w: f64, (jn, l): (f64, [f64; 2])) -> f64 {
+        let force = c.friction * jn;
+        let used = (l[0] * l[0] + l[1] * l[1]) / (force * force);
+        let limit = force * self.spin * (1.0 - used).max(0.0).sqrt();
+        // Not finite in a diverging step (the guard names it): no panic here.
+        if !(limit > 0.0 && limit.is_finite()) {
+            return 0.0;
+        }
+        (self.twist - w * self.spin_mass).clamp(-limit, limit)
     }
 
     /// The sliding impulses `p` (force, twist), or as much of the way to them
@@ -420,6 +455,7 @@ fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), 
     let drift = f.holding_drift();
     let slip = [u + drift[0] * rate, v + drift[1] * rate];
     let (l, twist) = f.rub(shape, c, slip, pair.twist_velocity(c), jn);
+    let twist = if f.spin > 0.0 { f.resist_spin(c, pair.twist_velocity(c), (jn, l)) } else { twist };
     let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
     let dt = twist - f.twist;
     f.impulse = l;

@@ -240,6 +240,12 @@ pub(super) fn solve_each(list: &[u32], cs: &[Constraint], points: &mut [Point], 
 /// for a fresh manifold).
 #[inline(always)]
 fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: &Rule) {
+    if c.central {
+        if let Some(p) = points.get_mut(c.start as usize) {
+            solve_central(c, p, bodies, rule);
+        }
+        return;
+    }
     let mut pair = Pair::load(bodies, c);
     let gap = Gap::new(bodies, c);
     // A manifold with nothing to warm start from is swept a few times, so its
@@ -272,6 +278,32 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
         }
     }
     pair.store(bodies, c);
+}
+
+/// [`solve`] for the one point of a [`Constraint::central`] contact: the
+/// same arithmetic without the arms across the normal, which are zero, so
+/// neither body's angular velocity is read or written (the 1000-ball pit's
+/// velocity and relax passes read and wrote both for every point).
+#[inline(always)]
+fn solve_central(c: &Constraint, p: &mut Point, bodies: &mut [SolverBody], rule: &Rule) {
+    let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+    let n = c.normal;
+    // `Gap::separation` of a point whose sides are balls or fixed.
+    let s = p.base_separation + n.dot(&(b.dp - a.dp)) + n.dot(&p.anchor2) - n.dot(&p.anchor1);
+    let Some(law) = rule.law(rule.effective(s), a.dynamic && b.dynamic) else {
+        return;
+    };
+    let (m1, m2) = (a.inv_m, b.inv_m);
+    let imp = law.impulse(n.dot(&(b.v - a.v)), p);
+    let total = (p.normal_impulse + imp).max(0.0);
+    let delta = total - p.normal_impulse;
+    p.normal_impulse = total;
+    if c.s1 != 0 {
+        bodies[c.s1 as usize].v -= n * (delta * m1);
+    }
+    if c.s2 != 0 {
+        bodies[c.s2 as usize].v += n * (delta * m2);
+    }
 }
 
 /// The normals of constraint `c` solved again after its friction, in the

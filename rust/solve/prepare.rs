@@ -64,6 +64,8 @@ struct Shared<'a> {
     previous: &'a Previous,
     /// The world's bodies (their orientations, for [`reuse::still_slack`]).
     world: &'a Bodies,
+    /// The depth resting contacts settle to (m; see `super::impulse::REST_DEPTH`).
+    rest: f64,
 }
 
 impl ContactSolver {
@@ -167,7 +169,8 @@ impl ContactSolver {
             rest = tail;
         }
         let mut kept = std::mem::take(&mut self.previous.kept);
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world };
+        let rest = super::impulse::REST_DEPTH * self.settings.slop;
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest };
         let one = |((((j, pts), c), (f, shape)), k): ((((&Job, &mut &mut [Point]), &mut Constraint), (&mut Patch, &mut PatchShape)), &mut u32)| {
             let ctx = &contexts[j.ctx as usize];
             let state = &narrow.pairs[ctx.slot as usize];
@@ -277,6 +280,7 @@ impl ContactSolver {
             x2: Vec3::from(b.position[b2]),
             material: combine(&c1.material, &c2.material),
             corners: [c1.corners, c2.corners],
+            radii: [c1.ball.unwrap_or(0.0), c2.ball.unwrap_or(0.0)],
             pair,
             slot,
         }
@@ -298,7 +302,8 @@ impl ContactSolver {
         let start = self.points.len() as u32;
         let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(ctx) };
         let mut src = Source::new(ctx, group, carry, reach);
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world };
+        let rest = super::impulse::REST_DEPTH * self.settings.slop;
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest };
         let points = &mut self.points;
         let kept_still = shared.still(&job, &src, |p| points.push(p));
         if kept_still.is_none() {
@@ -453,6 +458,7 @@ impl Shared<'_> {
     fn constraint(&self, job: &Job, src: &Source, pts: &mut [Point]) -> (Constraint, Option<usize>) {
         let ctx = src.ctx;
         let kept = job.previous.and_then(|o| reuse::holds(self.previous, self.bodies, o, ctx, &src.normal, pts).map(|w| (o, w)));
+        let central = job.len == 1 && !job.generalized && self.central(ctx);
         let basis = match kept {
             Some((o, _)) => reuse::keep(self.previous, o, pts),
             None => {
@@ -460,7 +466,7 @@ impl Shared<'_> {
                 let t1 = orthonormal(&n);
                 let (b1, b2) = (&self.bodies[ctx.s1 as usize], &self.bodies[ctx.s2 as usize]);
                 for p in pts.iter_mut() {
-                    normal_mass(p, b1, b2, &n);
+                    normal_mass(p, (b1, b2), &n, central);
                 }
                 (n, t1, n.cross(&t1))
             }
@@ -473,7 +479,7 @@ impl Shared<'_> {
         } else {
             (f64::NEG_INFINITY, 0.0)
         };
-        (Self::assemble(job, src, basis, (slack, arm)), kept.map(|(o, _)| o))
+        (Constraint { central, ..Self::assemble(job, src, basis, (slack, arm)) }, kept.map(|(o, _)| o))
     }
 
     /// The constraint of `job` with normal and tangents `n, t1, t2`.
@@ -507,7 +513,21 @@ impl Shared<'_> {
             slack,
             arm,
             still: false,
+            central: false,
         }
+    }
+
+    /// Whether each side of the pair is fixed or a ball centred on its body's
+    /// centre of mass (not one of varying density), and the two are not so
+    /// unequal that one may hold the other as a support (see
+    /// [`Constraint::central`]).
+    #[inline(always)]
+    fn central(&self, ctx: &PairContext) -> bool {
+        let (a, b) = (&self.bodies[ctx.s1 as usize], &self.bodies[ctx.s2 as usize]);
+        let side = |s: u32, body: &SolverBody, pose: &nalgebra::Isometry3<f64>, x: &Vec3| {
+            s == 0 || (body.surface == Surface::Ball && pose.translation.vector == *x)
+        };
+        side(ctx.s1, a, &ctx.pose1, &ctx.x1) && side(ctx.s2, b, &ctx.pose2, &ctx.x2) && !super::support::unequal(a, b)
     }
 
     /// The friction patch of constraint `c` (its geometry kept from last step's
@@ -526,17 +546,36 @@ impl Shared<'_> {
                 patch.set_geometry(shape, c, pts, self.bodies);
             }
         }
+        patch.spin = if c.central { spin_lever(src.ctx, pts, self.rest) } else { 0.0 };
         if src.warm {
             // Each point carries its share of the patch's impulses: summed, they
             // survive points that appear or vanish between steps.
             let ft: Vec3 = src.all_points().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
             patch.impulse = [ft.dot(&c.t1), ft.dot(&c.t2)];
-            if patch.lever > 0.0 {
+            if patch.lever > 0.0 || patch.spin > 0.0 {
                 patch.twist = src.all_points().map(|tp| tp.data.twist_impulse).sum();
             }
             patch.sliding = src.all_points().any(|tp| tp.data.sliding);
         }
     }
+}
+
+/// The lever (m) of the spin friction of a central contact's point: a
+/// uniform-friction Hertz patch of radius `a = √(R δ)` resists a spin with
+/// `3π/16 · a` times its Coulomb force, `R` the balls' combined radius
+/// (`R1 R2 / (R1 + R2)`, a flat side's infinite), `δ` the depth at the step
+/// start, at least `rest`, the depth resting contacts settle to (`REST_DEPTH`
+/// of the slop, 1 µm at the defaults).
+fn spin_lever(ctx: &PairContext, pts: &[Point], rest: f64) -> f64 {
+    let [r1, r2] = ctx.radii;
+    let r = match (r1 > 0.0, r2 > 0.0) {
+        (true, true) => r1 * r2 / (r1 + r2),
+        (true, false) => r1,
+        (false, true) => r2,
+        (false, false) => return 0.0,
+    };
+    let depth = pts.first().map_or(0.0, |p| -p.separation).max(rest);
+    3.0 * std::f64::consts::PI / 16.0 * (r * depth).sqrt()
 }
 
 /// How the contact points of collider `c` follow its body as it turns (see

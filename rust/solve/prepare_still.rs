@@ -87,7 +87,7 @@ impl Shared<'_> {
     #[inline(always)]
     pub(super) fn kept_still(&self, job: &Job, src: &Source, (o, slack): (usize, f64)) -> (Constraint, Option<usize>) {
         let c = &self.previous.constraints[o];
-        let c = Constraint { still: true, ..Self::assemble(job, src, (c.normal, c.t1, c.t2), (slack, c.arm)) };
+        let c = Constraint { still: true, central: c.central, ..Self::assemble(job, src, (c.normal, c.t1, c.t2), (slack, c.arm)) };
         (c, Some(o))
     }
 

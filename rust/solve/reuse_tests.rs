@@ -58,7 +58,7 @@ fn kept_geometry_is_the_geometry_of_its_anchors() {
             let mut fresh = *p;
             fresh.r1 = p.anchor1;
             fresh.r2 = p.anchor2;
-            normal_mass(&mut fresh, &s.bodies[c.s1 as usize], &s.bodies[c.s2 as usize], &c.normal);
+            normal_mass(&mut fresh, (&s.bodies[c.s1 as usize], &s.bodies[c.s2 as usize]), &c.normal, c.central);
             assert_eq!(fresh.normal_mass.to_bits(), p.normal_mass.to_bits());
             assert_eq!(fresh.irn1, p.irn1);
         }

@@ -321,6 +321,14 @@ impl Pair {
         self.w2 += p.irn2 * j;
     }
 
+    /// [`Self::apply_normal`] for a [`Constraint::central`] point (its arms
+    /// across the normal are zero).
+    #[inline(always)]
+    pub fn apply_central(&mut self, c: &Constraint, j: f64) {
+        self.v1 -= c.normal * (j * self.m1);
+        self.v2 += c.normal * (j * self.m2);
+    }
+
     /// Tangential velocity of body 2 relative to body 1 at a patch's centre (m/s).
     #[inline(always)]
     pub fn patch_velocity(&self, c: &Constraint, f: &Patch) -> [f64; 2] {

@@ -51,6 +51,12 @@ const RESIDUAL: f64 = 1e-6;
 /// momentum per pass through a light body under a heavy one.
 const MASS_RATIO: f64 = 4.0;
 
+/// Two moving bodies more than [`MASS_RATIO`] apart in mass: the heavier may
+/// rest on the lighter as on a support.
+pub(crate) fn unequal(a: &super::solver_body::SolverBody, b: &super::solver_body::SolverBody) -> bool {
+    a.dynamic && b.dynamic && (a.inv_m * MASS_RATIO < b.inv_m || b.inv_m * MASS_RATIO < a.inv_m)
+}
+
 /// Relative speed, in substeps of gravity (`g h`), below which two moving
 /// bodies count as resting on each other at the step start (on top of the
 /// rest depth closed in one substep): a step of gravity at the default 4
@@ -286,8 +292,7 @@ impl ContactSolver {
         if c.len >= 3 {
             return true;
         }
-        let (a, b) = (&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize]);
-        a.dynamic && b.dynamic && (a.inv_m * MASS_RATIO < b.inv_m || b.inv_m * MASS_RATIO < a.inv_m)
+        unequal(&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize])
     }
 
     /// Which side of constraint `ci` is the lower body of a support contact (0:

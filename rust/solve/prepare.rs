@@ -560,9 +560,9 @@ impl Shared<'_> {
     }
 }
 
-/// The lever (m) of the spin friction of a central contact's point: a
-/// uniform-friction Hertz patch of radius `a = √(R δ)` resists a spin with
-/// `3π/16 · a` times its Coulomb force, `R` the balls' combined radius
+/// The lever (m) of the spin friction of a central contact's point: Coulomb
+/// friction over a Hertz patch of radius `a = √(R δ)` (its pressure
+/// elliptical) resists a spin with `3π/16 · a` times its force, `R` the balls' combined radius
 /// (`R1 R2 / (R1 + R2)`, a flat side's infinite), `δ` the depth at the step
 /// start, at least `rest`, the depth resting contacts settle to (`REST_DEPTH`
 /// of the slop, 1 µm at the defaults).

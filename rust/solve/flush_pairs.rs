@@ -189,12 +189,16 @@ impl ContactSolver {
             fresh &= c.fresh;
         }
         let len = self.points.len() as u32 - start;
-        let c = Constraint { start, len, fresh, as_built: false, joined: true, ..lead };
+        // Its points' arms are laid out below across the lead's normal: not central.
+        let c = Constraint { start, len, fresh, as_built: false, joined: true, central: false, ..lead };
         let mut shape = PatchShape::default();
         let mut patch = Patch::default();
         patch.set_geometry(&mut shape, &c, &self.points[start as usize..], &self.bodies);
+        // A ball on a seam touches every tile at its one point: its spin
+        // friction is the lead's, over the Hertz patch it presses there.
+        patch.spin = if lead.central { patches.get(group[0]).map_or(0.0, |f| f.spin) } else { 0.0 };
         patch.impulse = [force.dot(&c.t1), force.dot(&c.t2)];
-        patch.twist = if patch.lever > 0.0 { twist } else { 0.0 };
+        patch.twist = if patch.lever > 0.0 || patch.spin > 0.0 { twist } else { 0.0 };
         patch.sliding = sliding;
         self.constraints.push(c);
         self.patches.push(patch);

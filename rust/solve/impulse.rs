@@ -240,7 +240,7 @@ pub(super) fn solve_each(list: &[u32], cs: &[Constraint], points: &mut [Point], 
 /// for a fresh manifold).
 #[inline(always)]
 fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: &Rule) {
-    if c.central {
+    if c.central && c.len == 1 {
         if let Some(p) = points.get_mut(c.start as usize) {
             solve_central(c, p, bodies, rule);
         }

@@ -457,8 +457,7 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
             line_of_centres(c, p, (b1, b2));
         }
     }
-    let (s1, s2, normal) = (c.s1, c.s2, c.normal);
-    let (b1, b2) = (&bodies[s1 as usize], &bodies[s2 as usize]);
+    let normal = c.normal;
     let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
     let (dp1, dp2) = (b1.dp, b2.dp);
     let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);

@@ -454,8 +454,9 @@ fn rub(c: &Constraint, points: &[Point], (f, shape): (&mut Patch, &PatchShape), 
     let [u, v] = pair.patch_velocity(c, f);
     let drift = f.holding_drift();
     let slip = [u + drift[0] * rate, v + drift[1] * rate];
-    let (l, twist) = f.rub(shape, c, slip, pair.twist_velocity(c), jn);
-    let twist = if f.spin > 0.0 { f.resist_spin(c, pair.twist_velocity(c), (jn, l)) } else { twist };
+    let spin = pair.twist_velocity(c);
+    let (l, twist) = f.rub(shape, c, slip, spin, jn);
+    let twist = if f.spin > 0.0 { f.resist_spin(c, spin, (jn, l)) } else { twist };
     let d = [l[0] - f.impulse[0], l[1] - f.impulse[1]];
     let dt = twist - f.twist;
     f.impulse = l;

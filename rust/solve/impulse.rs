@@ -213,8 +213,13 @@ impl ContactSolver {
         released || !self.ordinary.is_empty() || !self.support.solved.is_empty()
     }
 
+    /// The depth resting contacts settle to (m): [`REST_DEPTH`] of the slop.
+    pub(crate) fn rest_depth(&self) -> f64 {
+        REST_DEPTH * self.settings.slop
+    }
+
     pub(crate) fn rule(&self, relax: bool) -> Rule {
-        let rest = REST_DEPTH * self.settings.slop;
+        let rest = self.rest_depth();
         let pair = Softness::new(PAIR_RATE * self.inv_h, self.settings.contact_damping_ratio, 1.0 / self.inv_h);
         Rule { soft: self.softness, pair, max_push: self.settings.max_push_velocity, inv_h: self.inv_h, rest, relax }
     }

@@ -153,6 +153,7 @@ impl ContactSolver {
     /// The second pass, over threads: each job's points, constraint and patch
     /// in its place.
     fn lay_out(&mut self, narrow: &NarrowPhase, (contexts, jobs, members): (&[PairContext], &[Job], &[u32]), world: &Bodies) {
+        let rest_depth = self.rest_depth();
         let points = jobs.last().map_or(0, |j| (j.start + j.len) as usize);
         // Every slot is written below: only those beyond the arrays' length
         // (two steps old) are zeroed first (zeroing them all was 5 % of a
@@ -169,8 +170,7 @@ impl ContactSolver {
             rest = tail;
         }
         let mut kept = std::mem::take(&mut self.previous.kept);
-        let rest = super::impulse::REST_DEPTH * self.settings.slop;
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest };
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest: rest_depth };
         let one = |((((j, pts), c), (f, shape)), k): ((((&Job, &mut &mut [Point]), &mut Constraint), (&mut Patch, &mut PatchShape)), &mut u32)| {
             let ctx = &contexts[j.ctx as usize];
             let state = &narrow.pairs[ctx.slot as usize];
@@ -302,8 +302,7 @@ impl ContactSolver {
         let start = self.points.len() as u32;
         let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(ctx) };
         let mut src = Source::new(ctx, group, carry, reach);
-        let rest = super::impulse::REST_DEPTH * self.settings.slop;
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest };
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest: self.rest_depth() };
         let points = &mut self.points;
         let kept_still = shared.still(&job, &src, |p| points.push(p));
         if kept_still.is_none() {

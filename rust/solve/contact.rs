@@ -203,6 +203,10 @@ pub struct Constraint {
     /// (see [`refresh`]), so that the impulse keeps angular momentum.
     #[serde(default)]
     pub central: bool,
+    /// A side of it is a ball (see `PairContext::radii`): its points, however
+    /// many (one on each of the flush tiles under it), are one point, no face.
+    #[serde(default)]
+    pub ball: bool,
 }
 
 /// The contact solver's state for one step.
@@ -474,7 +478,10 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
             (_, _, Some(r2)) => (p.anchor1 + (dp2 + r2 - p.anchor2) - dp1, r2),
             _ => (p.anchor1 + shift - dp1, p.anchor2 + shift - dp2),
         };
-        normal_mass(p, (b1, b2), &normal, c.central);
+        // A central point's mass does not depend on its arms: kept as built.
+        if !c.central {
+            normal_mass(p, (b1, b2), &normal, false);
+        }
     }
     refresh_patch_of(c, patch, points, bodies);
 }
@@ -492,10 +499,11 @@ fn line_of_centres(c: &mut Constraint, p: &mut Point, (b1, b2): (&SolverBody, &S
     if !(len > 0.0) {
         return;
     }
-    let n = d / len;
+    // Reciprocals: three divisions each sat on the refresh's chain.
+    let n = d * (1.0 / len);
     let radii = start.norm() - p.separation;
     let t = c.t1 - n * n.dot(&c.t1);
-    let t1 = if t.norm_squared() > 0.25 { t / t.norm() } else { orthonormal(&n) };
+    let t1 = if t.norm_squared() > 0.25 { t * (1.0 / t.norm()) } else { orthonormal(&n) };
     (c.normal, c.t1, c.t2) = (n, t1, n.cross(&t1));
     // As `Gap::separation` reads it, with a ball's anchors unturned.
     p.base_separation = (len - radii) - n.dot(&(b2.dp - b1.dp)) - n.dot(&p.anchor2) + n.dot(&p.anchor1);

@@ -513,6 +513,7 @@ impl Shared<'_> {
             arm,
             still: false,
             central: false,
+            ball: ctx.radii.iter().any(|&r| r > 0.0),
         }
     }
 

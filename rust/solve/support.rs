@@ -210,7 +210,7 @@ impl ContactSolver {
         let faces = self.faces_below(up);
         let state = |ci: usize| {
             let c = &self.constraints[ci];
-            let sole = c.len >= 3 && self.upper_of(ci, up).is_some_and(|u| faces[u as usize] == 1);
+            let sole = self.face(c) && self.upper_of(ci, up).is_some_and(|u| faces[u as usize] == 1);
             let slow = self.settled(ci, b, speed);
             let settled = slow || (sole && self.lands_flat(ci, b, speed, landing));
             (settled, settled && !slow)
@@ -282,6 +282,15 @@ impl ContactSolver {
         self.group_blocks();
     }
 
+    /// Whether constraint `c` is a face (three points or more, not a
+    /// ball's) that may hold what rests on it. A ball on the corner where four
+    /// flush tiles meet touches each (see `super::flush_pairs`): as a block,
+    /// its four points had no row for the friction against its spin (see
+    /// `Patch::spin`), and it spun on there.
+    fn face(&self, c: &super::contact::Constraint) -> bool {
+        c.len >= 3 && !c.ball
+    }
+
     /// Whether constraint `c` can be a support contact, whatever its normal
     /// and the support graph (see [`Self::lower_side`]): a 1000-ball pit has
     /// none, and planning found that in 5 % of its step.
@@ -289,7 +298,7 @@ impl ContactSolver {
         if c.generalized {
             return false;
         }
-        if c.len >= 3 {
+        if self.face(c) {
             return true;
         }
         unequal(&self.bodies[c.s1 as usize], &self.bodies[c.s2 as usize])
@@ -311,7 +320,7 @@ impl ContactSolver {
         let (lo, hi) = if lower == 1 { (c.s1, c.s2) } else { (c.s2, c.s1) };
         let (lo, hi) = (&self.bodies[lo as usize], &self.bodies[hi as usize]);
         let heavy = lo.dynamic && hi.inv_m * MASS_RATIO < lo.inv_m;
-        if c.len >= 3 || heavy {
+        if self.face(c) || heavy {
             lower
         } else {
             0
@@ -365,7 +374,7 @@ impl ContactSolver {
     fn faces_below(&self, up: &Vec3) -> Vec<u32> {
         let mut faces = vec![0u32; self.bodies.len()];
         for (ci, c) in self.constraints.iter().enumerate() {
-            if let Some(u) = self.upper_of(ci, up).filter(|_| c.len >= 3) {
+            if let Some(u) = self.upper_of(ci, up).filter(|_| self.face(c)) {
                 faces[u as usize] += 1;
             }
         }

@@ -114,3 +114,20 @@ fn a_new_checkpoint_is_copied_into_the_last_ones_buffers_and_undoes_exactly() {
     twin.step(super::CHECKPOINT_CALLS as u64 + 6).unwrap();
     assert_eq!(bits(&world), bits(&twin));
 }
+
+#[test]
+fn a_restore_copies_into_the_viewed_arrays_and_is_bitwise() {
+    // A restore cloned the snapshot afresh (a gigabyte of new pages for a
+    // million bodies) before copying the viewed arrays back; it now copies
+    // into this world's arrays, whose addresses NumPy's views hold.
+    let (mut world, mut twin) = (column(), column());
+    world.step(30).unwrap();
+    let snap = world.clone();
+    world.step(40).unwrap();
+    let views = super::super::snapshot::view_arrays(&world);
+    world.restore(&snap).unwrap();
+    assert_eq!(super::super::snapshot::view_arrays(&world), views);
+    world.step(40).unwrap();
+    twin.step(70).unwrap();
+    assert_eq!(bits(&world), bits(&twin));
+}

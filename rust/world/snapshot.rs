@@ -4,6 +4,7 @@
 //! rest shapes, caches). Restoring copies one back into a live world.
 
 use super::World;
+use crate::xpbd::particles::Particles;
 use crate::error::{Error, Result};
 
 /// Counts that fix the length of the arrays NumPy views show: bodies,
@@ -19,40 +20,31 @@ fn keep<T: Copy>(old: &mut Vec<T>, new: &mut Vec<T>) {
     std::mem::swap(old, new);
 }
 
-/// Moves the memory of every array a view can point into from `old` to `new`
-/// (same layout), after copying `new`'s values into it.
-fn keep_view_memory(old: &mut World, new: &mut World) {
-    let (a, b) = (&mut old.bodies, &mut new.bodies);
-    keep(&mut a.position, &mut b.position);
-    keep(&mut a.orientation, &mut b.orientation);
-    keep(&mut a.linear_velocity, &mut b.linear_velocity);
-    keep(&mut a.angular_velocity, &mut b.angular_velocity);
-    keep(&mut a.force, &mut b.force);
-    keep(&mut a.torque, &mut b.torque);
-    keep(&mut a.mass, &mut b.mass);
-    keep(&mut a.inv_mass, &mut b.inv_mass);
-    keep(&mut a.inertia, &mut b.inertia);
-    keep(&mut a.inv_inertia, &mut b.inv_inertia);
-    keep(&mut a.sleeping, &mut b.sleeping);
-    keep(&mut a.rotation, &mut b.rotation);
-    keep(&mut a.angular_momentum, &mut b.angular_momentum);
-    keep(&mut a.inertia_world, &mut b.inertia_world);
-    if let (Some(x), Some(y)) = (old.xpbd.as_mut(), new.xpbd.as_mut()) {
-        let (p, q) = (&mut x.particles, &mut y.particles);
-        keep(&mut p.position, &mut q.position);
-        keep(&mut p.velocity, &mut q.velocity);
-        keep(&mut p.inv_mass, &mut q.inv_mass);
-        keep(&mut p.mass, &mut q.mass);
-        keep(&mut p.radius, &mut q.radius);
+/// The particles' viewed arrays of `old` take the values of `new`'s, which
+/// take their memory (`XpbdModel`'s `clone_from` makes new arrays).
+fn keep_particle_memory(old: &mut Particles, new: &mut Particles) {
+    keep(&mut old.position, &mut new.position);
+    keep(&mut old.velocity, &mut new.velocity);
+    keep(&mut old.inv_mass, &mut new.inv_mass);
+    keep(&mut old.mass, &mut new.mass);
+    keep(&mut old.radius, &mut new.radius);
+}
+
+/// The address and length of every array a NumPy view can point into.
+pub(crate) fn view_arrays(w: &World) -> Vec<(usize, usize)> {
+    fn at<T>(v: &[T]) -> (usize, usize) {
+        (v.as_ptr() as usize, v.len())
     }
-    keep(&mut old.joint_position, &mut new.joint_position);
-    keep(&mut old.joint_velocity, &mut new.joint_velocity);
-    keep(&mut old.joint_target, &mut new.joint_target);
-    keep(&mut old.joint_force, &mut new.joint_force);
-    #[cfg(test)]
-    {
-        new.fail_at = old.fail_at;
+    let b = &w.bodies;
+    let mut a = vec![at(&b.position), at(&b.orientation), at(&b.linear_velocity), at(&b.angular_velocity)];
+    a.extend([at(&b.force), at(&b.torque), at(&b.mass), at(&b.inv_mass), at(&b.inertia), at(&b.inv_inertia)]);
+    a.extend([at(&b.sleeping), at(&b.rotation), at(&b.angular_momentum), at(&b.inertia_world)]);
+    a.extend([at(&w.joint_position), at(&w.joint_velocity), at(&w.joint_target), at(&w.joint_force)]);
+    if let Some(x) = &w.xpbd {
+        let p = &x.particles;
+        a.extend([at(&p.position), at(&p.velocity), at(&p.inv_mass), at(&p.mass), at(&p.radius)]);
     }
+    a
 }
 
 impl World {
@@ -62,20 +54,35 @@ impl World {
     /// one built from the same scene); otherwise nothing changes.
     pub fn restore(&mut self, snap: &World) -> Result<()> {
         let (have, got) = (layout(self), layout(snap));
-        if have != got {
+        let lengths = |w: &World| view_arrays(w).into_iter().map(|(_, n)| n).collect::<Vec<_>>();
+        if have != got || lengths(self) != lengths(snap) {
             return Err(Error::input(format!(
                 "snapshot has {} bodies, {} particles and {} joints, this world {}, {} and {}: \
                  restore a snapshot of this world (or of one built from the same scene)",
                 got.0, got.1, got.2, have.0, have.1, have.2
             )));
         }
-        let mut next = snap.clone();
-        keep_view_memory(self, &mut next);
+        // Copied into this world's own arrays (see `crate::clone_in_place`),
+        // so the bodies' and joints' views stay valid (a `Vec` of the same
+        // length is copied without reallocating): a fresh clone cost a
+        // million bodies' world a gigabyte of new pages. The particles'
+        // arrays are kept by hand (their model's `clone_from` makes new ones).
+        let mut particles = self.xpbd.as_mut().map(|x| std::mem::take(&mut x.particles));
         // Stage timings are this world's, not state: they carry on, and the
         // restored plan's stages take their slots in them.
-        next.profile = std::mem::take(&mut self.profile);
-        next.plan.assign_slots(&mut next.profile);
-        *self = next;
+        let profile = std::mem::take(&mut self.profile);
+        #[cfg(test)]
+        let fail_at = self.fail_at;
+        self.clone_from(snap);
+        if let (Some(old), Some(x)) = (particles.as_mut(), self.xpbd.as_mut()) {
+            keep_particle_memory(old, &mut x.particles);
+        }
+        #[cfg(test)]
+        {
+            self.fail_at = fail_at;
+        }
+        self.profile = profile;
+        self.plan.assign_slots(&mut self.profile);
         Ok(())
     }
 }

@@ -161,10 +161,7 @@ impl Patch {
         let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
         let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
         let det = a * cc - b * b;
-        // One division: the patches of a moving ball pit are refreshed twice a
-        // substep, and three divisions were a fifth of it.
-        let inv_det = 1.0 / det;
-        f.tangent_mass = if det > 0.0 && inv_det.is_finite() { [cc * inv_det, -b * inv_det, a * inv_det] } else { [0.0; 3] };
+        f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
         // A patch of one point (a ball, an edge touching a face) has no lever for
         // a twist: no torsional friction.
         f.friction_mass = if f.lever > 0.0 {
@@ -489,9 +486,7 @@ pub(crate) fn invert3(k: [f64; 6]) -> [f64; 6] {
         return [0.0; 6];
     }
     let (c11, c12, c22) = (a * f - c * c, b * c - a * e, a * d - b * b);
-    // `|det| > 1e-300`: its reciprocal is finite, one division for six.
-    let inv = 1.0 / det;
-    [c00 * inv, c01 * inv, c02 * inv, c11 * inv, c12 * inv, c22 * inv]
+    [c00 / det, c01 / det, c02 / det, c11 / det, c12 / det, c22 / det]
 }
 
 /// `K x` for the symmetric 3x3 `k`.

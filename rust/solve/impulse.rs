@@ -276,13 +276,21 @@ fn solve(c: &Constraint, points: &mut [Point], bodies: &mut [SolverBody], rule: 
             };
             let curve = pair.curve(bodies, c, p, rule.inv_h);
             let imp = law.impulse(pair.normal_velocity(c, p) + curve * rule.inv_h, p);
-            let total = (p.normal_impulse + imp).max(0.0);
-            let delta = total - p.normal_impulse;
-            p.normal_impulse = total;
+            let delta = accumulate(p, imp);
             pair.apply_normal(c, p, delta);
         }
     }
     pair.store(bodies, c);
+}
+
+/// Adds the increment `imp` (N·s) to point `p`'s accumulated normal impulse,
+/// which stays pushing; returns the change made.
+#[inline(always)]
+fn accumulate(p: &mut Point, imp: f64) -> f64 {
+    let total = (p.normal_impulse + imp).max(0.0);
+    let delta = total - p.normal_impulse;
+    p.normal_impulse = total;
+    delta
 }
 
 /// [`solve`] for the one point of a [`Constraint::central`] contact: the
@@ -299,10 +307,7 @@ fn solve_central(c: &Constraint, p: &mut Point, bodies: &mut [SolverBody], rule:
         return;
     };
     let (m1, m2) = (a.inv_m, b.inv_m);
-    let imp = law.impulse(n.dot(&(b.v - a.v)), p);
-    let total = (p.normal_impulse + imp).max(0.0);
-    let delta = total - p.normal_impulse;
-    p.normal_impulse = total;
+    let delta = accumulate(p, law.impulse(n.dot(&(b.v - a.v)), p));
     if c.s1 != 0 {
         bodies[c.s1 as usize].v -= n * (delta * m1);
     }

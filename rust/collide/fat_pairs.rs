@@ -64,6 +64,40 @@ impl Changes {
     }
 }
 
+/// `pairs` (distinct, each index below `n`) sorted, as `sort_unstable` would:
+/// a counting sort by the first index, then each run by the second (a few
+/// pairs a run). A sweep's 15 000 pairs of a 3000-ball pit took 250 µs to
+/// sort by comparisons, a step's rebuild of them all 1.5 ms.
+pub fn sort_pairs(pairs: &mut Vec<(u32, u32)>, n: usize, (starts, scratch): (&mut Vec<u32>, &mut Vec<(u32, u32)>)) {
+    if pairs.iter().any(|&(i, _)| i as usize >= n) {
+        pairs.sort_unstable();
+        return;
+    }
+    starts.clear();
+    starts.resize(n + 1, 0);
+    for &(i, _) in pairs.iter() {
+        starts[i as usize + 1] += 1;
+    }
+    for k in 0..n {
+        starts[k + 1] += starts[k];
+    }
+    scratch.clear();
+    scratch.resize(pairs.len(), (0, 0));
+    for &(i, j) in pairs.iter() {
+        let at = &mut starts[i as usize];
+        scratch[*at as usize] = (i, j);
+        *at += 1;
+    }
+    // `starts[k]` is now the end of run k, the start of run k + 1.
+    let mut from = 0;
+    for k in 0..n {
+        let to = starts[k] as usize;
+        scratch[from..to].sort_unstable();
+        from = to;
+    }
+    std::mem::swap(pairs, scratch);
+}
+
 /// `v[..mid]` and `v[mid..]`, each sorted, merged in place (`scratch`: any
 /// vector, reused).
 pub fn merge_sorted(v: &mut Vec<(u32, u32)>, mid: usize, scratch: &mut Vec<(u32, u32)>) {
@@ -109,6 +143,22 @@ mod tests {
         SweepAndPrune::default().pairs(fat, finite, keep, &mut out);
         out.sort_unstable();
         out
+    }
+
+    #[test]
+    fn the_counting_sort_of_pairs_is_the_sort() {
+        for seed in 0..10u64 {
+            let (fat, finite): (Vec<Aabb>, Vec<u32>) = (boxes(400, seed, 5.0), (0..400).collect());
+            let mut pairs = Vec::new();
+            SweepAndPrune::default().pairs(&fat, &finite, |_, _| true, &mut pairs);
+            let mut want = pairs.clone();
+            want.sort_unstable();
+            sort_pairs(&mut pairs, fat.len(), (&mut Vec::new(), &mut Vec::new()));
+            assert_eq!(pairs, want, "seed {seed}");
+        }
+        let mut odd = vec![(7, 2), (900, 1), (3, 4)];
+        sort_pairs(&mut odd, 10, (&mut Vec::new(), &mut Vec::new()));
+        assert_eq!(odd, vec![(3, 4), (7, 2), (900, 1)]);
     }
 
     #[test]

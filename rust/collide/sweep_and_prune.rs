@@ -46,9 +46,18 @@ pub struct SweepAndPrune {
     wide: Vec<u32>,
     narrow: Vec<u32>,
     extents: Vec<f64>,
+    /// Per box, the column of its lower corner (`Grid::index` of its `min`
+    /// on each cross axis), and per entry of a column its sweep key; the
+    /// corners of the column's boxes in sweep order.
+    #[serde(skip)]
+    corner: Vec<[u32; 2]>,
+    #[serde(skip)]
+    keys: Vec<(f64, u32)>,
+    #[serde(skip)]
+    corners: Vec<[u32; 2]>,
 }
 
-clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents });
+clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents, corner, keys, corners });
 
 /// The grid of columns across the sweep axis.
 #[derive(Clone, Copy, Debug)]
@@ -76,12 +85,12 @@ impl Grid {
         std::array::from_fn(|k| (self.index(b.min[axes[k]], k), self.index(b.max[axes[k]], k)))
     }
 
-    /// The column that reports a pair: the one holding the corner of their overlap.
+    /// The column that reports a pair: the one holding the corner of their
+    /// overlap, from the columns of the boxes' own lower corners (`index` is
+    /// monotonic, so the index of the larger `min` is the larger index).
     #[inline(always)]
-    fn owner(&self, a: &Aabb, b: &Aabb) -> usize {
-        let iu = self.index(a.min[self.u].max(b.min[self.u]), 0);
-        let iw = self.index(a.min[self.w].max(b.min[self.w]), 1);
-        iu * self.n[1] + iw
+    fn owner(&self, a: [u32; 2], b: [u32; 2]) -> usize {
+        a[0].max(b[0]) as usize * self.n[1] + a[1].max(b[1]) as usize
     }
 }
 
@@ -110,10 +119,15 @@ impl SweepAndPrune {
             if range.len() < 2 {
                 continue;
             }
-            let ids = &mut self.entries[range];
-            ids.sort_unstable_by(|&a, &b| boxes[a as usize].min[axis].total_cmp(&boxes[b as usize].min[axis]).then(a.cmp(&b)));
+            // Sorted by key, not through the boxes: a sort that reads each
+            // comparison's boxes from everywhere was most of a rebuild.
+            self.keys.clear();
+            self.keys.extend(self.entries[range].iter().map(|&i| (boxes[i as usize].min[axis], i)));
+            self.keys.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             self.sorted.clear();
-            self.sorted.extend(ids.iter().map(|&i| boxes[i as usize]));
+            self.sorted.extend(self.keys.iter().map(|&(_, i)| boxes[i as usize]));
+            self.corners.clear();
+            self.corners.extend(self.keys.iter().map(|&(_, i)| self.corner[i as usize]));
             // Each box meets the ones after it whose intervals start before its
             // own ends: exactly the pairs of the column that overlap on the axis.
             for (a, box_a) in self.sorted.iter().enumerate() {
@@ -121,8 +135,8 @@ impl SweepAndPrune {
                     if box_b.min[axis] > box_a.max[axis] {
                         break;
                     }
-                    if box_a.overlaps(box_b) && grid.owner(box_a, box_b) == col {
-                        push(ids[a], ids[a + 1 + b]);
+                    if box_a.overlaps(box_b) && grid.owner(self.corners[a], self.corners[a + 1 + b]) == col {
+                        push(self.keys[a].1, self.keys[a + 1 + b].1);
                     }
                 }
             }
@@ -206,6 +220,11 @@ impl SweepAndPrune {
         let columns = grid.n[0] * grid.n[1];
         self.starts.resize(columns + 1, 0);
         let narrow = std::mem::take(&mut self.narrow);
+        self.corner.resize(boxes.len(), [0; 2]);
+        for &i in &narrow {
+            let [(u0, _), (w0, _)] = grid.span(&boxes[i as usize]);
+            self.corner[i as usize] = [u0 as u32, w0 as u32];
+        }
         let each = |f: &mut dyn FnMut(usize, u32)| {
             for &i in &narrow {
                 let b = &boxes[i as usize];

@@ -25,6 +25,10 @@ const CELL_OVER_EXTENT: f64 = 2.0;
 /// Boxes wider than this many cells are tested apart, against every box.
 const WIDE_CELLS: f64 = 4.0;
 
+/// Most columns a changed box may span for [`SweepAndPrune::near`] to list
+/// its neighbours (a box across more is tested against every box).
+const MAX_COLUMNS: usize = 16;
+
 /// Most columns per box: a sparse scene gets larger cells rather than a grid
 /// mostly empty.
 const COLUMNS_PER_BOX: usize = 4;
@@ -55,9 +59,14 @@ pub struct SweepAndPrune {
     keys: Vec<(f64, u32)>,
     #[serde(skip)]
     corners: Vec<[u32; 2]>,
+    /// The grid of the last call, whose columns (`starts`, `entries`) and
+    /// wide boxes (`wide`) [`Self::near`] reads; none after a restore from
+    /// bytes.
+    #[serde(skip)]
+    last: Option<Grid>,
 }
 
-clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents, corner, keys, corners });
+clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents, corner, keys, corners, last });
 
 /// The grid of columns across the sweep axis.
 #[derive(Clone, Copy, Debug)]
@@ -106,7 +115,8 @@ impl SweepAndPrune {
         out: &mut Vec<(u32, u32)>,
     ) {
         self.choose_axis(boxes, finite);
-        let Some(grid) = self.bin(boxes, finite) else { return };
+        self.last = self.bin(boxes, finite);
+        let Some(grid) = self.last else { return };
         let mut push = |i: u32, j: u32| {
             let (lo, hi) = if i < j { (i, j) } else { (j, i) };
             if keep(lo, hi) {
@@ -150,6 +160,33 @@ impl SweepAndPrune {
                 }
             }
         }
+    }
+
+    /// Whether a last call's grid is known (see [`Self::near`]).
+    pub fn has_grid(&self) -> bool {
+        self.last.is_some()
+    }
+
+    /// Every box of the last call that may overlap box `b`, if none of them
+    /// changed since (some more than once, some that do not overlap): those of
+    /// the columns `b` spans and the wide ones. False, with nothing given, if
+    /// there is no last call's grid or `b` spans more than `MAX_COLUMNS` of
+    /// it.
+    pub fn near(&self, b: &Aabb, mut give: impl FnMut(u32)) -> bool {
+        let Some(grid) = self.last else { return false };
+        let [(u0, u1), (w0, w1)] = grid.span(b);
+        if u1 < u0 || w1 < w0 || (u1 - u0 + 1) * (w1 - w0 + 1) > MAX_COLUMNS {
+            return false;
+        }
+        for cu in u0..=u1 {
+            for cw in w0..=w1 {
+                let col = cu * grid.n[1] + cw;
+                let (a, z) = (self.starts[col] as usize, self.starts[col + 1] as usize);
+                self.entries[a..z].iter().for_each(|&i| give(i));
+            }
+        }
+        self.wide.iter().for_each(|&i| give(i));
+        true
     }
 
     /// The sweep axis: the one along which the box centres spread most (with

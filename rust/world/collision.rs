@@ -225,15 +225,16 @@ impl Collision {
         // that moves in place (bodies spinning, settling, at rest) sorts nothing.
         let (cols, jointed) = (&self.colliders, &self.jointed);
         let keep = |i: u32, j: u32| may_touch(cols, i, j, jointed);
-        if sweep || !self.changes.few(self.finite.len()) {
+        if sweep || !self.changes.few(self.finite.len(), &self.sap) {
             self.sap_pairs.clear();
             self.sap.pairs(&self.fat, &self.finite, keep, &mut self.sap_pairs);
+            self.changes.swept();
             // Sorted once per rebuild, not once per step (the candidates'
             // sort was 3 % of a settled ball pit's step): the candidates
             // below are filtered from them in order.
             fat_pairs::sort_pairs(&mut self.sap_pairs, self.colliders.len(), (&mut self.runs, &mut self.merged));
         } else if !self.changes.boxes.is_empty() {
-            self.changes.update(&mut self.sap_pairs, &self.fat, &self.finite, keep);
+            self.changes.update(&mut self.sap_pairs, (&self.fat, &self.finite, &self.sap), keep);
         }
         self.candidates.clear();
         let (cols, boxes) = (&self.colliders, &self.boxes);

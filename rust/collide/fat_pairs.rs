@@ -147,10 +147,9 @@ pub fn sort_pairs(pairs: &mut Vec<(u32, u32)>, n: usize, (starts, scratch): (&mu
     }
     // `starts[k]` is now the end of run k, the start of run k + 1.
     let mut from = 0;
-    for k in 0..n {
-        let to = starts[k] as usize;
-        scratch[from..to].sort_unstable();
-        from = to;
+    for &to in &starts[..n] {
+        scratch[from..to as usize].sort_unstable();
+        from = to as usize;
     }
     std::mem::swap(pairs, scratch);
 }

@@ -50,11 +50,11 @@ pub struct SweepAndPrune {
     wide: Vec<u32>,
     narrow: Vec<u32>,
     extents: Vec<f64>,
-    /// Per box, the column of its lower corner (`Grid::index` of its `min`
-    /// on each cross axis), and per entry of a column its sweep key; the
-    /// corners of the column's boxes in sweep order.
+    /// Per box, its columns `[u0, w0, u1, w1]` (`Grid::span`, found once a
+    /// box), and per entry of a column its sweep key; the columns of the
+    /// column's boxes' lower corners in sweep order.
     #[serde(skip)]
-    corner: Vec<[u32; 2]>,
+    spans: Vec<[u32; 4]>,
     #[serde(skip)]
     keys: Vec<(f64, u32)>,
     #[serde(skip)]
@@ -66,7 +66,7 @@ pub struct SweepAndPrune {
     last: Option<Grid>,
 }
 
-clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents, corner, keys, corners, last });
+clone_in_place!(SweepAndPrune { axis, count, starts, entries, sorted, wide, narrow, extents, spans, keys, corners, last });
 
 /// The grid of columns across the sweep axis.
 #[derive(Clone, Copy, Debug)]
@@ -137,7 +137,10 @@ impl SweepAndPrune {
             self.sorted.clear();
             self.sorted.extend(self.keys.iter().map(|&(_, i)| boxes[i as usize]));
             self.corners.clear();
-            self.corners.extend(self.keys.iter().map(|&(_, i)| self.corner[i as usize]));
+            self.corners.extend(self.keys.iter().map(|&(_, i)| {
+                let [u0, w0, _, _] = self.spans[i as usize];
+                [u0, w0]
+            }));
             // Each box meets the ones after it whose intervals start before its
             // own ends: exactly the pairs of the column that overlap on the axis.
             for (a, box_a) in self.sorted.iter().enumerate() {
@@ -257,15 +260,15 @@ impl SweepAndPrune {
         let columns = grid.n[0] * grid.n[1];
         self.starts.resize(columns + 1, 0);
         let narrow = std::mem::take(&mut self.narrow);
-        self.corner.resize(boxes.len(), [0; 2]);
+        self.spans.resize(boxes.len(), [0; 4]);
         for &i in &narrow {
-            let [(u0, _), (w0, _)] = grid.span(&boxes[i as usize]);
-            self.corner[i as usize] = [u0 as u32, w0 as u32];
+            let [(u0, u1), (w0, w1)] = grid.span(&boxes[i as usize]);
+            self.spans[i as usize] = [u0 as u32, w0 as u32, u1 as u32, w1 as u32];
         }
+        let spans = &self.spans;
         let each = |f: &mut dyn FnMut(usize, u32)| {
             for &i in &narrow {
-                let b = &boxes[i as usize];
-                let [(u0, u1), (w0, w1)] = grid.span(b);
+                let [u0, w0, u1, w1] = spans[i as usize].map(|c| c as usize);
                 for cu in u0..=u1 {
                     for cw in w0..=w1 {
                         f(cu * grid.n[1] + cw, i);

@@ -245,7 +245,14 @@ impl NarrowPhase {
                 };
             }
         };
-        if parallel {
+        if parallel && crate::solve::team::active() {
+            // Two halves of the slots, one on the step's helper thread.
+            let mid = self.pairs.len() / 2;
+            let (p0, p1) = self.pairs.split_at_mut(mid);
+            let (f0, f1) = self.found.split_at_mut(mid);
+            let b = || p1.iter_mut().zip(f1.iter_mut()).for_each(step);
+            crate::solve::team::both(|| p0.iter_mut().zip(f0.iter_mut()).for_each(step), b);
+        } else if parallel {
             use rayon::prelude::*;
             self.pairs.par_iter_mut().zip(self.found.par_iter_mut()).with_min_len(PAIRS_PER_TASK).for_each(step);
         } else {

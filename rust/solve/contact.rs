@@ -252,6 +252,23 @@ pub struct ContactSolver {
     /// This step's groups of bodies in contact (see `super::contact_groups`).
     #[serde(skip)]
     pub(crate) groups: super::contact_groups::Groups,
+    /// Whether this step's contacts could be split in halves (see
+    /// `super::seams`): the next step builds them half by half.
+    #[serde(default)]
+    pub(crate) split: bool,
+    /// Where this step's constraints laid out half by half end their first
+    /// and second halves (the seam after them), if they were (see
+    /// `super::seams`). Not state: found by every build.
+    #[serde(skip)]
+    pub(crate) ends: Option<[usize; 2]>,
+    /// The halves may be passed over side by side this step (see
+    /// `super::seams`). Not state.
+    #[serde(skip)]
+    pub(crate) halves: Option<[usize; 2]>,
+    /// Per world body, the side of the split of this step's build (see
+    /// `super::seams`). Not state.
+    #[serde(skip)]
+    pub(crate) side: Vec<u8>,
     /// Whether every awake body was slow at this step's start (see
     /// `super::second_pass`; found only in a world with support blocks).
     #[serde(skip)]
@@ -355,6 +372,13 @@ impl ContactSolver {
         if self.by_groups() {
             return self.warm_start_by_groups(first);
         }
+        if let Some(h) = self.by_halves() {
+            self.each_half(h, |cs, r| {
+                cs.warm_range(r, first);
+                false
+            });
+            return;
+        }
         self.warm_all(first);
     }
 
@@ -374,6 +398,18 @@ impl ContactSolver {
     pub(crate) fn warm_one(&mut self, ci: usize, first: bool) {
         if let (Some(c), Some(f)) = (self.constraints.get(ci), self.patches.get_mut(ci)) {
             warm(c, &mut self.points, f, &mut self.bodies, first);
+        }
+    }
+
+    /// The warm start of the constraints `range`, in order (see [`warm`]):
+    /// one loop with `warm` inlined, as [`Self::warm_all`], for the halves
+    /// of a split step (see `super::seams`).
+    #[inline(never)]
+    pub(crate) fn warm_range(&mut self, range: std::ops::Range<usize>, first: bool) {
+        let (points, patches, bodies) = (&mut self.points, &mut self.patches, &mut self.bodies);
+        let (Some(cs), Some(fs)) = (self.constraints.get(range.clone()), patches.get_mut(range)) else { return };
+        for (c, f) in cs.iter().zip(fs) {
+            warm(c, points, f, bodies, first);
         }
     }
 

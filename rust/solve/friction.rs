@@ -398,6 +398,14 @@ impl ContactSolver {
         if self.by_groups() {
             return self.friction_by_groups(&pass);
         }
+        if let Some(h) = self.by_halves() {
+            self.each_half(h, |cs, r| {
+                let list = cs.ordinary.get(r).unwrap_or(&[]);
+                rub_each(list, &cs.constraints, &mut cs.points, (&mut cs.patches, &cs.shapes), &mut cs.bodies, &pass);
+                false
+            });
+            return;
+        }
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         rub_each(&self.ordinary, cs, points, (&mut self.patches, &self.shapes), bodies, &pass);
     }

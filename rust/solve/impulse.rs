@@ -204,6 +204,15 @@ impl ContactSolver {
         if self.by_groups() {
             return self.velocity_pass_by_groups(rule);
         }
+        if let Some(h) = self.by_halves() {
+            // No support blocks to sweep or release (see `super::seams`).
+            self.each_half(h, |cs, r| {
+                let list = cs.ordinary.get(r).unwrap_or(&[]);
+                solve_each(list, &cs.constraints, &mut cs.points, &mut cs.bodies, (&cs.guard.redo, rule));
+                false
+            });
+            return !self.ordinary.is_empty() || !self.support.solved.is_empty();
+        }
         self.sweep_supports(rule);
         let (cs, points, bodies) = (&self.constraints, &mut self.points, &mut self.bodies);
         solve_each(&self.ordinary, cs, points, bodies, (&self.guard.redo, rule));

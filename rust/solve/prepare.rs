@@ -76,8 +76,9 @@ impl ContactSolver {
         self.parallel = step.parallel;
         self.support.split = false;
         self.forget_groups();
-        if step.parallel && narrow.touching.len() >= MIN_PARALLEL {
-            let (contexts, jobs, members) = self.place(narrow, colliders, b);
+        let order = self.build_order(narrow, colliders, b);
+        if step.parallel && order.len() >= MIN_PARALLEL {
+            let (contexts, jobs, members) = self.place(narrow, &order, colliders, b);
             self.lay_out(narrow, (&contexts, &jobs, &members), b);
         } else {
             self.constraints.clear();
@@ -85,7 +86,7 @@ impl ContactSolver {
             self.patches.clear();
             self.shapes.clear();
             // One pass: each manifold's points are written once, while in cache.
-            for &slot in &narrow.touching {
+            for &slot in &order {
                 let state = &narrow.pairs[slot as usize];
                 let ctx = self.pair_context(colliders, b, state.key, slot);
                 self.push_pair(state.contacts(), &ctx, (Carry::of(state), state.prediction), b);
@@ -93,11 +94,13 @@ impl ContactSolver {
         }
         self.note_orientations(b);
         self.join_flush_pairs(b);
+        self.find_ends();
         self.scale_warm_start(warm_scale);
         let g = step.gravity.norm();
         let up = if g > 0.0 { -step.gravity / g } else { Vec3::zeros() };
         self.plan_support(&up, g, b);
         self.plan_links();
+        self.plan_halves();
     }
 
     /// Sets last step's constraints aside and starts this step's with the
@@ -126,12 +129,12 @@ impl ContactSolver {
     /// The first pass, in pair order: solver bodies, and a job per group of
     /// manifolds with a point within their pair's prediction (see
     /// [`super::coplanar`]), and the manifold indices of the groups.
-    fn place(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> (Vec<PairContext>, Vec<Job>, Vec<u32>) {
-        let mut contexts = Vec::with_capacity(narrow.touching.len());
-        let mut jobs = Vec::with_capacity(narrow.touching.len());
-        let mut members = Vec::with_capacity(narrow.touching.len());
+    fn place(&mut self, narrow: &NarrowPhase, order: &[u32], colliders: &[Collider], b: &Bodies) -> (Vec<PairContext>, Vec<Job>, Vec<u32>) {
+        let mut contexts = Vec::with_capacity(order.len());
+        let mut jobs = Vec::with_capacity(order.len());
+        let mut members = Vec::with_capacity(order.len());
         let mut start = 0;
-        for &slot in &narrow.touching {
+        for &slot in order {
             let state = &narrow.pairs[slot as usize];
             let ctx = self.pair_context(colliders, b, state.key, slot);
             let generalized = self.generalized(&ctx);
@@ -206,9 +209,27 @@ impl ContactSolver {
             *c = constraint;
             *k = kept.map_or(reuse::NONE, |o| o as u32);
         };
-        let (constraints, patches) = (&mut self.constraints, self.patches.par_iter_mut().zip(self.shapes.par_iter_mut()));
-        let each = jobs.par_iter().zip(parts.par_iter_mut()).zip(constraints.par_iter_mut());
-        each.zip(patches).zip(kept.par_iter_mut()).with_min_len(PER_TASK).for_each(one);
+        if super::team::active() {
+            // Two halves of the jobs, one on the step's helper thread: after a
+            // split (see `super::seams`) the second half holds the second half
+            // of the contacts, built where its passes will run.
+            let mid = jobs.len() / 2;
+            let (j0, j1) = jobs.split_at(mid);
+            let (p0, p1) = parts.split_at_mut(mid);
+            let (c0, c1) = self.constraints.split_at_mut(mid);
+            let (f0, f1) = self.patches.split_at_mut(mid);
+            let (s0, s1) = self.shapes.split_at_mut(mid);
+            let (k0, k1) = kept.split_at_mut(mid);
+            let run = |j: &[Job], p: &mut [&mut [Point]], c: &mut [Constraint], (f, s): (&mut [Patch], &mut [PatchShape]), k: &mut [u32]| {
+                let each = j.iter().zip(p.iter_mut()).zip(c.iter_mut());
+                each.zip(f.iter_mut().zip(s.iter_mut())).zip(k.iter_mut()).for_each(one);
+            };
+            super::team::both(|| run(j0, p0, c0, (f0, s0), k0), || run(j1, p1, c1, (f1, s1), k1));
+        } else {
+            let (constraints, patches) = (&mut self.constraints, self.patches.par_iter_mut().zip(self.shapes.par_iter_mut()));
+            let each = jobs.par_iter().zip(parts.par_iter_mut()).zip(constraints.par_iter_mut());
+            each.zip(patches).zip(kept.par_iter_mut()).with_min_len(PER_TASK).for_each(one);
+        }
         self.previous.kept = kept;
     }
 

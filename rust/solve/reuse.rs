@@ -33,8 +33,24 @@ pub struct Previous {
     pub patches: Vec<Patch>,
     pub shapes: Vec<super::limit_surface::PatchShape>,
     pub bodies: Vec<SolverBody>,
-    /// Next constraint to look at (constraints come in the order of their pairs).
+    /// Next constraint to look at (constraints come in the order of their
+    /// pairs, run by run: see [`Self::find`]).
     cursor: usize,
+    /// The runs of the constraints in pair order, `(start, end)`: one, or
+    /// one per half and the seam after a split (see `super::seams`). Found
+    /// when they are set aside.
+    #[serde(skip)]
+    runs: Vec<(usize, usize)>,
+    /// Which run of this step's questions is being asked, and the last key
+    /// asked.
+    #[serde(skip)]
+    run: usize,
+    #[serde(skip)]
+    asked: Option<((u32, u32), u32)>,
+    /// This step's constraints are built half by half (see `super::seams`):
+    /// its questions come in runs. Set by the build.
+    #[serde(skip)]
+    pub(crate) in_runs: bool,
     /// Which constraint of this step took the geometry of which of the last.
     pub kept: Vec<u32>,
     pub blocks: Vec<Block>,
@@ -65,13 +81,57 @@ impl Previous {
     /// The last step's constraint of manifold `index` of `pair`, if there was
     /// one. Asked in pair order, as the constraints were built: a cursor walks
     /// them.
+    ///
+    /// This step's questions and last step's constraints both come in runs
+    /// in pair order (one, or the halves' and the seam's: see
+    /// `super::seams`). A question smaller than the last starts the next run
+    /// of questions, walked through the same run of last step's constraints
+    /// (through the first again if last step had only one); a manifold not
+    /// in that run (its pair changed halves) is looked up in the others.
+    #[inline]
     pub(crate) fn find(&mut self, pair: (u32, u32), index: u32) -> Option<usize> {
         let key = (pair, index);
-        while self.constraints.get(self.cursor).is_some_and(|o| (o.pair, o.manifold) < key) {
+        if !self.in_runs {
+            while self.constraints.get(self.cursor).is_some_and(|o| (o.pair, o.manifold) < key) {
+                self.cursor += 1;
+            }
+            let o = self.constraints.get(self.cursor)?;
+            return ((o.pair, o.manifold) == key).then_some(self.cursor);
+        }
+        if self.asked.is_some_and(|last| key < last) {
+            self.run += 1;
+            self.cursor = self.runs.get(self.run).map_or(0, |r| r.0);
+        }
+        self.asked = Some(key);
+        let end = self.runs.get(self.run).or(self.runs.first()).map_or(0, |r| r.1);
+        let key_of = |o: &Constraint| (o.pair, o.manifold);
+        while self.cursor < end && self.constraints.get(self.cursor).is_some_and(|o| key_of(o) < key) {
             self.cursor += 1;
         }
-        let o = self.constraints.get(self.cursor)?;
-        ((o.pair, o.manifold) == key).then_some(self.cursor)
+        if self.cursor < end && self.constraints.get(self.cursor).is_some_and(|o| key_of(o) == key) {
+            return Some(self.cursor);
+        }
+        let runs = if self.runs.len() > 1 { &self.runs[..] } else { &[] };
+        runs.iter().find_map(|&(a, b)| {
+            let run = self.constraints.get(a..b)?;
+            let at = a + run.partition_point(|o| key_of(o) < key);
+            self.constraints.get(at).filter(|o| at < b && key_of(o) == key).map(|_| at)
+        })
+    }
+
+    /// The runs of the constraints set aside (see [`Self::find`]).
+    fn find_runs(&mut self) {
+        self.runs.clear();
+        let mut start = 0;
+        for (k, w) in self.constraints.windows(2).enumerate() {
+            if (w[1].pair, w[1].manifold) < (w[0].pair, w[0].manifold) {
+                self.runs.push((start, k + 1));
+                start = k + 1;
+            }
+        }
+        self.runs.push((start, self.constraints.len()));
+        self.run = 0;
+        self.asked = None;
     }
 }
 
@@ -195,6 +255,7 @@ impl ContactSolver {
             }
         }
         p.cursor = 0;
+        p.find_runs();
         p.kept.clear();
         self.bodies.clear();
     }

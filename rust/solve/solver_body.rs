@@ -490,6 +490,20 @@ impl ContactSolver {
         if self.wide() && self.constraints.len() >= MIN_PARALLEL_REFRESH && self.refresh_in_parallel() {
             return;
         }
+        if let Some(h) = self.by_halves() {
+            // Each constraint's refresh writes only its own points and patch
+            // (and no support group: a split step has no blocks).
+            self.each_half(h, |cs, range| {
+                for ci in range {
+                    let c = &cs.constraints[ci];
+                    if cs.bodies[c.s1 as usize].moved || cs.bodies[c.s2 as usize].moved {
+                        cs.refresh_constraint(ci);
+                    }
+                }
+                false
+            });
+            return;
+        }
         for ci in 0..self.constraints.len() {
             let c = &self.constraints[ci];
             if self.bodies[c.s1 as usize].moved || self.bodies[c.s2 as usize].moved {

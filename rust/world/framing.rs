@@ -36,7 +36,9 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// `solve::reuse::still_slack`).
 /// 15: the contact points' and constraints' fields in the order the passes
 /// read them.
-pub const FORMAT_VERSION: u32 = 15;
+/// 16: whether the last step's contacts could be laid out in halves (see
+/// `solve::seams`).
+pub const FORMAT_VERSION: u32 = 16;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

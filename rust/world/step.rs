@@ -91,11 +91,19 @@ impl World {
     fn worth_splitting(&self) -> bool {
         use crate::collide::narrow_phase::{MIN_PARALLEL_MANIFOLD_PAIRS, MIN_PARALLEL_PAIRS};
         self.collision.as_ref().is_some_and(|c| {
-            c.solver.islands_were_split() || c.narrow.len() >= MIN_PARALLEL_PAIRS || c.narrow.manifold_pairs() >= MIN_PARALLEL_MANIFOLD_PAIRS
+            c.solver.islands_were_split() || c.solver.halves_were_split() || c.narrow.len() >= MIN_PARALLEL_PAIRS || c.narrow.manifold_pairs() >= MIN_PARALLEL_MANIFOLD_PAIRS
         })
     }
 
     fn one_step_here(&mut self, src: &KickSources) {
+        // After a step whose contacts were split in halves (see
+        // `solve::seams`) the whole step has a second thread at hand: the
+        // narrow phase and the build share their pairs with it too.
+        let team = self.contact_threads > 1 && self.collision.as_ref().is_some_and(|c| c.solver.split);
+        crate::solve::team::with_team(team, || self.one_step_stages(src));
+    }
+
+    fn one_step_stages(&mut self, src: &KickSources) {
         let base = self.rocking_substeps();
         let h = self.settings.dt / base as f64;
         // Indexing, not iterating: a stage may rebuild the plan (bodies waking

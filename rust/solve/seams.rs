@@ -155,7 +155,10 @@ impl ContactSolver {
     /// Whether the passes of this step go half by half, side by side (on
     /// the pool with a helper thread: see [`super::team`]).
     pub(crate) fn by_halves(&self) -> Option<[usize; 2]> {
-        self.halves.filter(|_| self.parallel && super::team::active())
+        let n = self.constraints.len();
+        // Every contact solved both ways, in order, still (see `plan_halves`).
+        let whole = self.ordinary.len() == n;
+        self.halves.filter(|&[_, e1]| whole && e1 <= n && self.parallel && super::team::active())
     }
 
     /// Whether the last step's contacts may be laid out in halves: the next

@@ -208,7 +208,7 @@ impl ContactSolver {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use crate::body::Shape;
     use crate::world::{BodySpec, Scene, Settings, World};
 
@@ -233,7 +233,8 @@ mod tests {
         scene.build(&settings).unwrap()
     }
 
-    fn bits(w: &World) -> Vec<u64> {
+    /// Every body's pose and velocities, bit for bit.
+    pub(crate) fn bits(w: &World) -> Vec<u64> {
         let b = &w.bodies;
         (0..b.len())
             .flat_map(|i| [b.position[i], b.linear_velocity[i], b.angular_velocity[i]].into_iter().flatten().chain(b.orientation[i]))

@@ -1,4 +1,5 @@
 use crate::body::Shape;
+use crate::solve::island_sweeps::tests::bits;
 use crate::world::{BodySpec, Scene, Settings, World};
 
 /// 1000 balls of 0.1 m in a lattice 0.2 m apart (touching) in a box of
@@ -28,14 +29,6 @@ fn lattice_pit(threads: u32) -> World {
     settings.sleep.enabled = false;
     settings.threads = Some(threads);
     sc.build(&settings).unwrap()
-}
-
-fn bits(w: &World) -> Vec<u64> {
-    let b = &w.bodies;
-    (0..b.len())
-        .flat_map(|i| [b.position[i], b.linear_velocity[i], b.angular_velocity[i]].into_iter().flatten().chain(b.orientation[i]))
-        .map(f64::to_bits)
-        .collect()
 }
 
 /// The pit's contacts are laid out in halves and passed over side by side

@@ -163,6 +163,23 @@ def wheels() -> rr.World:
     return scene.build(dt=1 / 60, sleep=False)
 
 
+def split_pit() -> rr.World:
+    """1000 balls touching in a lattice in a box, on two threads: some 2800
+    contacts, all solved both ways, laid out in two halves and passed over side
+    by side from the second step (`rust/solve/seams.rs`); the layout follows the
+    last step's plan, kept in the snapshot."""
+    scene = rr.Scene(gravity=(0, 0, -G))
+    half, t = 1.0, 0.1
+    for c, h in (((0, 0, -t), (half + 2 * t, half + 2 * t, t)), ((half + t, 0, 1), (t, half + 2 * t, 1)),
+                 ((-half - t, 0, 1), (t, half + 2 * t, 1)), ((0, half + t, 1), (half, t, 1)), ((0, -half - t, 1), (half, t, 1))):
+        scene.add_body(rr.Box(h), fixed=True, position=c)
+    for i in range(1000):
+        x, y, z = i % 10, i // 10 % 10, i // 100
+        j = 1e-3 * ((i * 0.754877) % 1.0 - 0.5)
+        scene.add_body(rr.Sphere(0.1), density=1000.0, position=((x - 4.5) * 0.2 + j, (y - 4.5) * 0.2 - j, 0.1 + z * 0.2))
+    return scene.build(dt=1 / 60, sleep=False, threads=2)
+
+
 SCENES: dict[str, Callable[[], rr.World]] = {
     "pile": pile,
     "pyramid": pyramid,
@@ -175,6 +192,7 @@ SCENES: dict[str, Callable[[], rr.World]] = {
     "kicked_column": kicked_column,
     "tile_floor": tile_floor,
     "wheels": wheels,
+    "split_pit": split_pit,
 }
 
 

@@ -103,9 +103,10 @@ pub(crate) fn both<A, B: Send>(a: impl FnOnce() -> A, b: impl FnOnce() -> B + Se
     let first = catch_unwind(AssertUnwindSafe(a));
     let taken_back = team.state.compare_exchange(POSTED, IDLE, Ordering::AcqRel, Ordering::Acquire).is_ok();
     let failed = !taken_back && {
+        let mut idle = Idle::default();
         let end = loop {
             match team.state.load(Ordering::Acquire) {
-                TAKEN => std::hint::spin_loop(),
+                TAKEN => idle.wait(),
                 s => break s,
             }
         };
@@ -134,6 +135,7 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 impl Team {
     /// The helper's loop: takes posted jobs until told to stop.
     fn serve(&self) {
+        let mut idle = Idle::default();
         loop {
             match self.state.load(Ordering::Acquire) {
                 STOP => return,
@@ -147,9 +149,30 @@ impl Team {
                     let end = if ok { DONE } else { FAILED };
                     // A stop while it ran (the caller unwinding) stays a stop.
                     let _ = self.state.compare_exchange(TAKEN, end, Ordering::AcqRel, Ordering::Acquire);
+                    idle = Idle::default();
                 }
-                _ => std::hint::spin_loop(),
+                _ => idle.wait(),
             }
+        }
+    }
+}
+
+/// Spins of a wait after which it yields its core at every turn: a pool
+/// larger than the machine's cores (or a busy machine) must not lose a
+/// scheduler's time slice to a thread spinning for one that is not running.
+const SPINS: u32 = 4096;
+
+/// A wait: spinning, then yielding.
+#[derive(Default)]
+struct Idle(u32);
+
+impl Idle {
+    fn wait(&mut self) {
+        if self.0 < SPINS {
+            self.0 += 1;
+            std::hint::spin_loop();
+        } else {
+            std::thread::yield_now();
         }
     }
 }

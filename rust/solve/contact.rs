@@ -256,13 +256,9 @@ pub struct ContactSolver {
     /// `super::seams`): the next step builds them half by half.
     #[serde(default)]
     pub(crate) split: bool,
-    /// Where this step's constraints laid out half by half end their first
-    /// and second halves (the seam after them), if they were (see
-    /// `super::seams`). Not state: found by every build.
-    #[serde(skip)]
-    pub(crate) ends: Option<[usize; 2]>,
-    /// The halves may be passed over side by side this step (see
-    /// `super::seams`). Not state.
+    /// Where the halves of this step's constraints end (the seam after
+    /// them), if they may be passed over side by side (see `super::seams`).
+    /// Not state.
     #[serde(skip)]
     pub(crate) halves: Option<[usize; 2]>,
     /// Per world body, the side of the split of this step's build (see

@@ -76,9 +76,10 @@ impl ContactSolver {
         self.parallel = step.parallel;
         self.support.split = false;
         self.forget_groups();
-        let order = self.build_order(narrow, colliders, b);
+        let halves = self.build_order(narrow, colliders, b);
+        let order = halves.as_deref().unwrap_or(&narrow.touching);
         if step.parallel && order.len() >= MIN_PARALLEL {
-            let (contexts, jobs, members) = self.place(narrow, &order, colliders, b);
+            let (contexts, jobs, members) = self.place(narrow, order, colliders, b);
             self.lay_out(narrow, (&contexts, &jobs, &members), b);
         } else {
             self.constraints.clear();
@@ -86,7 +87,7 @@ impl ContactSolver {
             self.patches.clear();
             self.shapes.clear();
             // One pass: each manifold's points are written once, while in cache.
-            for &slot in &order {
+            for &slot in order {
                 let state = &narrow.pairs[slot as usize];
                 let ctx = self.pair_context(colliders, b, state.key, slot);
                 self.push_pair(state.contacts(), &ctx, (Carry::of(state), state.prediction), b);
@@ -94,7 +95,6 @@ impl ContactSolver {
         }
         self.note_orientations(b);
         self.join_flush_pairs(b);
-        self.find_ends();
         self.scale_warm_start(warm_scale);
         let g = step.gravity.norm();
         let up = if g > 0.0 { -step.gravity / g } else { Vec3::zeros() };

@@ -50,7 +50,7 @@ pub struct Previous {
     /// This step's constraints are built half by half (see `super::seams`):
     /// its questions come in runs. Set by the build.
     #[serde(skip)]
-    pub(crate) in_runs: bool,
+    in_runs: bool,
     /// Which constraint of this step took the geometry of which of the last.
     pub kept: Vec<u32>,
     pub blocks: Vec<Block>,
@@ -91,27 +91,20 @@ impl Previous {
     #[inline]
     pub(crate) fn find(&mut self, pair: (u32, u32), index: u32) -> Option<usize> {
         let key = (pair, index);
-        if !self.in_runs {
-            while self.constraints.get(self.cursor).is_some_and(|o| (o.pair, o.manifold) < key) {
-                self.cursor += 1;
-            }
-            let o = self.constraints.get(self.cursor)?;
-            return ((o.pair, o.manifold) == key).then_some(self.cursor);
-        }
-        if self.asked.is_some_and(|last| key < last) {
+        let key_of = |o: &Constraint| (o.pair, o.manifold);
+        if self.in_runs && self.asked.is_some_and(|last| key < last) {
             self.run += 1;
             self.cursor = self.runs.get(self.run).map_or(0, |r| r.0);
         }
         self.asked = Some(key);
-        let end = self.runs.get(self.run).or(self.runs.first()).map_or(0, |r| r.1);
-        let key_of = |o: &Constraint| (o.pair, o.manifold);
+        let end = if self.in_runs { self.runs.get(self.run).or(self.runs.first()).map_or(0, |r| r.1) } else { self.constraints.len() };
         while self.cursor < end && self.constraints.get(self.cursor).is_some_and(|o| key_of(o) < key) {
             self.cursor += 1;
         }
         if self.cursor < end && self.constraints.get(self.cursor).is_some_and(|o| key_of(o) == key) {
             return Some(self.cursor);
         }
-        let runs = if self.runs.len() > 1 { &self.runs[..] } else { &[] };
+        let runs = if self.in_runs && self.runs.len() > 1 { &self.runs[..] } else { &[] };
         runs.iter().find_map(|&(a, b)| {
             let run = self.constraints.get(a..b)?;
             let at = a + run.partition_point(|o| key_of(o) < key);
@@ -119,8 +112,10 @@ impl Previous {
         })
     }
 
-    /// The runs of the constraints set aside (see [`Self::find`]).
-    fn find_runs(&mut self) {
+    /// This step's questions come in runs (see [`Self::find`]): the runs of
+    /// the constraints set aside.
+    pub(crate) fn ask_in_runs(&mut self) {
+        self.in_runs = true;
         self.runs.clear();
         let mut start = 0;
         for (k, w) in self.constraints.windows(2).enumerate() {
@@ -255,7 +250,8 @@ impl ContactSolver {
             }
         }
         p.cursor = 0;
-        p.find_runs();
+        p.in_runs = false;
+        p.asked = None;
         p.kept.clear();
         self.bodies.clear();
     }

@@ -41,14 +41,13 @@ const NO_SIDE: u8 = u8::MAX;
 const KINEMATIC: u8 = u8::MAX - 1;
 
 impl ContactSolver {
-    /// The touching pairs in the order their constraints are built: half by
-    /// half after a step that could split (see the module docs), else in
-    /// pair order. Finds each body's side.
-    pub(crate) fn build_order(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> Vec<u32> {
+    /// The touching pairs in the order their constraints are built, half by
+    /// half, after a step that could split (see the module docs); `None`:
+    /// in pair order. Finds each body's side.
+    pub(crate) fn build_order(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> Option<Vec<u32>> {
         self.side.clear();
-        self.previous.in_runs = false;
         if !self.split || narrow.touching.len() < MIN_SPLIT {
-            return narrow.touching.clone();
+            return None;
         }
         self.side.resize(b.len(), NO_SIDE);
         let body = |c: u32| colliders.get(c as usize).map_or(u32::MAX, |c| c.body);
@@ -67,15 +66,15 @@ impl ContactSolver {
         }
         if !self.split_at_median(&at) {
             self.side.clear();
-            return narrow.touching.clone();
+            return None;
         }
-        self.previous.in_runs = true;
+        self.previous.ask_in_runs();
         let parts: Vec<u8> = pairs.iter().map(|&[i, j]| self.part_of(i, j)).collect();
         let mut order = Vec::with_capacity(parts.len());
         for p in 0..=SEAM {
             order.extend(narrow.touching.iter().zip(&parts).filter(|&(_, &q)| q == p).map(|(&s, _)| s));
         }
-        order
+        Some(order)
     }
 
     /// Sides for the bodies `at` (index, position): 1 above the median along
@@ -112,27 +111,26 @@ impl ContactSolver {
         }
     }
 
-    /// After the build: where the halves of its constraints end, if it was
-    /// laid out half by half (and the layout holds: each constraint's part
-    /// no lower than the one before).
-    pub(crate) fn find_ends(&mut self) {
-        self.ends = None;
+    /// Where the halves of this step's constraints end, if they were laid
+    /// out half by half (and the layout holds: each constraint's part no
+    /// lower than the one before).
+    fn ends(&self) -> Option<[usize; 2]> {
         if self.side.is_empty() {
-            return;
+            return None;
         }
         let mut ends = [self.constraints.len(); 2];
         let mut last = 0;
         for (k, c) in self.constraints.iter().enumerate() {
             let p = self.part_of(c.b1, c.b2);
             if p < last {
-                return;
+                return None;
             }
             for e in last..p {
                 ends[e as usize] = k;
             }
             last = p;
         }
-        self.ends = Some(ends);
+        Some(ends)
     }
 
     /// After the plan: whether the halves may go side by side this step
@@ -144,7 +142,7 @@ impl ContactSolver {
         let n = self.constraints.len();
         let all = self.ordinary.len() == n && self.ordinary.iter().enumerate().all(|(k, &ci)| ci as usize == k);
         self.split = n >= MIN_SPLIT && all && self.support.blocks.is_empty() && self.gen.constraints.is_empty();
-        if let Some(ends) = self.ends.filter(|_| self.split) {
+        if let Some(ends) = self.split.then(|| self.ends()).flatten() {
             let seam = n - ends[1];
             if seam as f64 <= MAX_SEAM_SHARE * n as f64 {
                 self.halves = Some(ends);

@@ -143,7 +143,19 @@ pub struct NarrowPhase {
     /// Per slot, during `update`: what stepping the pair found (`Found`).
     #[serde(skip)]
     found: Vec<Found>,
+    /// Per collider, its world pose at this step's bodies, found once by
+    /// `update` where the candidates are many (see [`POSES_PER_CANDIDATE`]),
+    /// else empty: read by every pair of the collider and again by the
+    /// build of its constraints (four poses a pair; 1000 balls, 2800 pairs).
+    /// Cleared by [`NarrowPhase::forget_poses`] when the bodies move on.
+    #[serde(skip)]
+    poses: Vec<Isometry3<f64>>,
 }
+
+/// Candidates per collider from which `update` finds every collider's pose
+/// once rather than each pair its two: a scene of free bodies with few
+/// candidates (a million boxes on a grid) pays for none.
+const POSES_PER_CANDIDATE: usize = 4;
 
 /// What a step found for the pair in a slot.
 #[derive(Clone, Copy, Default, PartialEq)]
@@ -190,11 +202,13 @@ const PAIRS_PER_TASK: usize = 64;
 /// This step's prediction and manifolds of a pair: `None` if the balls around the
 /// two bodies that hold their shapes are further apart than the prediction (the
 /// pair is left as it was), else whether some point is within it.
-fn step_pair(state: &mut PairState, colliders: &[Collider], bodies: &Bodies, pred: &Prediction) -> Option<bool> {
+fn step_pair(state: &mut PairState, (colliders, poses): (&[Collider], &[Isometry3<f64>]), bodies: &Bodies, pred: &Prediction) -> Option<bool> {
     let (approach, prediction) = reach_of(colliders, bodies, state.key, pred)?;
     let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
     state.prediction = super::passing::narrowed(c1, c2, bodies, pred, &approach, prediction);
-    Some(update_pair(state, c1, c2, bodies))
+    let pose = |k: u32, c: &Collider| poses.get(k as usize).copied().unwrap_or_else(|| c.pose(bodies));
+    let pos12 = pose(state.key.0, c1).inv_mul(&pose(state.key.1, c2));
+    Some(update_pair(state, c1, c2, (bodies, &pos12)))
 }
 
 /// How collider pair `key` approaches and how far ahead its contacts are
@@ -234,11 +248,16 @@ impl NarrowPhase {
         self.touching.clear();
         self.found.clear();
         self.found.resize(self.pairs.len(), Found::Idle);
+        self.poses.clear();
+        if candidates.len() * POSES_PER_CANDIDATE >= colliders.len() {
+            self.poses.extend(colliders.iter().map(|c| c.pose(bodies)));
+        }
         let within_reach = |key: (u32, u32)| reach_of(colliders, bodies, key, pred).is_some();
         self.match_candidates(candidates, dormant, within_reach);
+        let poses = &self.poses;
         let step = |(state, found): (&mut PairState, &mut Found)| {
             if *found == Found::Due {
-                *found = match step_pair(state, colliders, bodies, pred) {
+                *found = match step_pair(state, (colliders, poses), bodies, pred) {
                     None => Found::Apart,
                     Some(false) => Found::Near,
                     Some(true) => Found::Touching,
@@ -274,6 +293,17 @@ impl NarrowPhase {
             _ => true,
         });
         self.order = order;
+    }
+
+    /// World pose of collider `k` at the bodies of the last `update`, if
+    /// it found the poses and they are not yet forgotten.
+    pub fn pose_of(&self, k: u32) -> Option<&Isometry3<f64>> {
+        self.poses.get(k as usize)
+    }
+
+    /// Forgets the poses `update` found: the bodies have moved on.
+    pub fn forget_poses(&mut self) {
+        self.poses.clear();
     }
 
     /// The contacts with seams between flush fixed shapes (see
@@ -389,11 +419,11 @@ fn far_apart(c1: &Collider, c2: &Collider, bodies: &Bodies, prediction: f64) -> 
     d.norm_squared() > r * r
 }
 
-/// The manifolds of one candidate pair, up to its `prediction`; returns whether
-/// some point is within it.
-fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, bodies: &Bodies) -> bool {
-    let (pose1, pose2) = (c1.pose(bodies), c2.pose(bodies));
-    let pos12 = pose1.inv_mul(&pose2);
+/// The manifolds of one candidate pair (`pos12`: collider 2's pose in
+/// collider 1's frame), up to its `prediction`; returns whether some point is
+/// within it.
+fn update_pair(state: &mut PairState, c1: &Collider, c2: &Collider, (bodies, pos12): (&Bodies, &Isometry3<f64>)) -> bool {
+    let pos12 = *pos12;
     let prediction = state.prediction;
     state.still = false;
     if let (Some(r1), Some(r2)) = (c1.ball, c2.ball) {

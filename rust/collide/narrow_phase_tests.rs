@@ -66,7 +66,7 @@ fn a_still_pair_keeps_the_manifolds_a_computation_would_give() {
     let pair = |turn: f64, lift: f64, state: &mut PairState| {
         let (c, b) = cube_on_cube(turn, lift);
         state.prediction = 0.01;
-        update_pair(state, &c[0], &c[1], &b)
+        update_pair(state, &c[0], &c[1], (&b, &c[0].pose(&b).inv_mul(&c[1].pose(&b))))
     };
     let mut kept = PairState { key: (0, 1), ..Default::default() };
     assert!(pair(0.3, -1e-6, &mut kept));

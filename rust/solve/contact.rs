@@ -265,6 +265,11 @@ pub struct ContactSolver {
     /// `super::seams`). Not state.
     #[serde(skip)]
     pub(crate) side: Vec<u8>,
+    /// Where the solver bodies entered by the first half's pairs end, and
+    /// those entered by the second's, in a build half by half (the bodies
+    /// only the seam touches after them; see `super::seams`). Not state.
+    #[serde(skip)]
+    pub(crate) body_ends: Option<[usize; 2]>,
     /// Whether every awake body was slow at this step's start (see
     /// `super::second_pass`; found only in a world with support blocks).
     #[serde(skip)]
@@ -362,10 +367,10 @@ impl ContactSolver {
         self.remember_before_warm();
         let first = self.substeps_done == 0;
         self.substeps_done += 1;
-        if !first {
-            self.constraints.iter_mut().for_each(|c| c.fresh = false);
-        }
         if self.by_groups() {
+            if !first {
+                self.constraints.iter_mut().for_each(|c| c.fresh = false);
+            }
             return self.warm_start_by_groups(first);
         }
         if let Some(h) = self.by_halves() {
@@ -383,7 +388,8 @@ impl ContactSolver {
     #[inline(never)]
     fn warm_all(&mut self, first: bool) {
         let (points, patches, bodies) = (&mut self.points, &mut self.patches, &mut self.bodies);
-        for (c, f) in self.constraints.iter().zip(patches.iter_mut()) {
+        for (c, f) in self.constraints.iter_mut().zip(patches.iter_mut()) {
+            c.fresh &= first;
             warm(c, points, f, bodies, first);
         }
     }
@@ -403,8 +409,12 @@ impl ContactSolver {
     #[inline(never)]
     pub(crate) fn warm_range(&mut self, range: std::ops::Range<usize>, first: bool) {
         let (points, patches, bodies) = (&mut self.points, &mut self.patches, &mut self.bodies);
-        let (Some(cs), Some(fs)) = (self.constraints.get(range.clone()), patches.get_mut(range)) else { return };
-        for (c, f) in cs.iter().zip(fs) {
+        let (Some(cs), Some(fs)) = (self.constraints.get_mut(range.clone()), patches.get_mut(range)) else { return };
+        // Each thread marks its own half's constraints as warm started (a pass
+        // over all of them on the stepping thread left their lines in its
+        // cache for the helper to fetch back).
+        for (c, f) in cs.iter_mut().zip(fs) {
+            c.fresh &= first;
             warm(c, points, f, bodies, first);
         }
     }

@@ -115,7 +115,7 @@ impl ContactSolver {
         let mut manifolds: Vec<Manifold> = Vec::new();
         let reach = 2.0 * self.settings.slop;
         manifolds_of(c1, c2, &pos12, reach, (&mut manifolds, &mut None));
-        let ctx = self.pair_context(colliders, b, pair, slot);
+        let ctx = self.pair_context((colliders, None), b, pair, slot);
         let members = manifolds.iter().enumerate().map(|(m, manifold)| (m as u32, manifold.into()));
         self.push_pair(members, &ctx, (super::prepare::Carry::NONE, reach), b);
     }

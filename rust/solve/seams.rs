@@ -44,7 +44,8 @@ impl ContactSolver {
     /// The touching pairs in the order their constraints are built, half by
     /// half, after a step that could split (see the module docs); `None`:
     /// in pair order. Finds each body's side.
-    pub(crate) fn build_order(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> Option<Vec<u32>> {
+    /// With the order, where its first and second halves' pairs end.
+    pub(crate) fn build_order(&mut self, narrow: &NarrowPhase, colliders: &[Collider], b: &Bodies) -> Option<(Vec<u32>, [usize; 2])> {
         self.side.clear();
         if !self.split || narrow.touching.len() < MIN_SPLIT {
             return None;
@@ -71,10 +72,14 @@ impl ContactSolver {
         self.previous.ask_in_runs();
         let parts: Vec<u8> = pairs.iter().map(|&[i, j]| self.part_of(i, j)).collect();
         let mut order = Vec::with_capacity(parts.len());
+        let mut ends = [0; 2];
         for p in 0..=SEAM {
             order.extend(narrow.touching.iter().zip(&parts).filter(|&(_, &q)| q == p).map(|(&s, _)| s));
+            if let Some(e) = ends.get_mut(p as usize) {
+                *e = order.len();
+            }
         }
-        Some(order)
+        Some((order, ends))
     }
 
     /// Sides for the bodies `at` (index, position): 1 above the median along

@@ -300,6 +300,7 @@ impl Collision {
             }
         }
         self.solver.prepare(&self.narrow, cols, b, &prep);
+        self.narrow.forget_poses();
         woke
     }
 

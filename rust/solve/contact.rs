@@ -432,8 +432,33 @@ impl ContactSolver {
     /// and those of pairs that no longer touch, are cleared first.
     pub fn finish(&mut self, narrow: &mut NarrowPhase) {
         narrow.pairs.iter_mut().for_each(|state| state.forget_beyond_reach());
-        for (ci, c) in self.constraints.iter().enumerate() {
-            let f = &mut self.patches[ci];
+        let n = self.constraints.len();
+        let pairs = super::seams::SharedPairs::of(&mut narrow.pairs);
+        match self.by_halves().filter(|_| self.parts.is_empty()) {
+            // Each thread ends its own half (its patches, points and pairs'
+            // states, which its next step reads first): ended on the stepping
+            // thread, every one of them was fetched back by the helper.
+            Some(h) => {
+                // SAFETY: a pair's constraints are all in one half or all in
+                // the seam (its part follows its bodies: see `super::seams`),
+                // and no constraint joins pairs (`parts` empty).
+                self.each_half(h, |cs, range| {
+                    unsafe { cs.finish_range(range, &pairs) };
+                    false
+                });
+            }
+            // SAFETY: one thread.
+            None => unsafe { self.finish_range(0..n, &pairs) },
+        }
+    }
+
+    /// [`Self::finish`] of the constraints `range`.
+    /// SAFETY: no other thread writes the states of these constraints' pairs
+    /// meanwhile.
+    unsafe fn finish_range(&mut self, range: std::ops::Range<usize>, pairs: &super::seams::SharedPairs) {
+        let pair = |slot: u32| unsafe { pairs.get(slot) };
+        for ci in range {
+            let (Some(c), Some(f)) = (self.constraints.get(ci), self.patches.get_mut(ci)) else { return };
             f.total[0] += f.impulse[0];
             f.total[1] += f.impulse[1];
             let share = 1.0 / c.len as f64;
@@ -441,14 +466,14 @@ impl ContactSolver {
             let parts = super::flush_pairs::parts_of(&self.parts, c);
             let slot_of = |p: &Point| parts.get(p.part as usize).map_or(c.slot, |q| q.slot);
             let mut key = (c.slot, c.manifold);
-            let mut state = narrow.pairs.get_mut(c.slot as usize);
+            let mut state = pair(c.slot);
             let mut kept = state.as_mut().and_then(|s| s.points_mut(c.manifold));
             for p in &mut self.points[c.start as usize..(c.start + c.len) as usize] {
                 p.total_normal += p.normal_impulse;
                 let now = (slot_of(p), p.manifold);
                 if now != key {
                     if now.0 != key.0 {
-                        state = narrow.pairs.get_mut(now.0 as usize);
+                        state = pair(now.0);
                     }
                     key = now;
                     kept = state.as_mut().and_then(|s| s.points_mut(p.manifold));

@@ -21,7 +21,7 @@
 use super::contact::ContactSolver;
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
-use crate::collide::narrow_phase::NarrowPhase;
+use crate::collide::narrow_phase::{NarrowPhase, PairState};
 use crate::math::Vec3;
 
 /// Touching pairs, and contacts solved both ways, from which a step's
@@ -182,6 +182,28 @@ impl ContactSolver {
         let (first, second) = super::team::both(|| work(unsafe { solver.get() }, 0..e0), || work(unsafe { solver.get() }, e0..e1));
         let seam = work(self, e1..n);
         first || second || seam
+    }
+}
+
+/// The narrow phase's pair states, written by both halves' ends of a step
+/// (see `ContactSolver::finish`), each its own pairs'.
+pub(crate) struct SharedPairs(*mut PairState, usize);
+
+// SAFETY: see `get`.
+unsafe impl Send for SharedPairs {}
+unsafe impl Sync for SharedPairs {}
+
+impl SharedPairs {
+    pub(crate) fn of(pairs: &mut [PairState]) -> Self {
+        Self(pairs.as_mut_ptr(), pairs.len())
+    }
+
+    /// The state of the pair in `slot`, if there is one.
+    /// SAFETY: no two threads ask for the same slot while the borrow lives.
+    #[allow(clippy::mut_from_ref)]
+    pub(crate) unsafe fn get(&self, slot: u32) -> Option<&mut PairState> {
+        let k = slot as usize;
+        (k < self.1).then(|| unsafe { &mut *self.0.add(k) })
     }
 }
 

@@ -157,6 +157,9 @@ pub struct NarrowPhase {
 /// candidates (a million boxes on a grid) pays for none.
 const POSES_PER_CANDIDATE: usize = 4;
 
+#[path = "pair_slots.rs"]
+mod pair_slots;
+
 /// What a step found for the pair in a slot.
 #[derive(Clone, Copy, Default, PartialEq)]
 enum Found {

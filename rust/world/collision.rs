@@ -284,6 +284,7 @@ impl Collision {
             return false;
         }
         let pred = Prediction { margin: self.margin, dt: step.dt, gravity: step.gravity };
+        self.narrow.arrange(self.solver.constraints.iter().map(|c| c.slot));
         let cols = &self.colliders;
         self.narrow.update(cols, b, &self.candidates, &pred, parallel, |i, j| {
             !b.moving(cols[i as usize].body as usize) && !b.moving(cols[j as usize].body as usize)

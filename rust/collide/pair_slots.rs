@@ -92,8 +92,7 @@ mod tests {
     #[test]
     fn arranged_slots_follow_the_built_order_and_keep_every_state() {
         let slot_of_key = [5u32, 2, 7, 0, 3, 6];
-        let mut narrow = NarrowPhase::default();
-        narrow.pairs = (0..8).map(|_| PairState::default()).collect();
+        let mut narrow = NarrowPhase { pairs: (0..8).map(|_| PairState::default()).collect(), ..Default::default() };
         for (k, &s) in slot_of_key.iter().enumerate() {
             narrow.pairs[s as usize] = PairState { key: (k as u32, k as u32 + 1), prediction: k as f64, ..Default::default() };
             narrow.order.push(((k as u32, k as u32 + 1), s));

@@ -242,6 +242,16 @@ pub(crate) mod tests {
             .collect()
     }
 
+    /// Steps the worlds `one`, `two`, `three` (one scene on 1, 2 and 3
+    /// threads) once each and asserts that they end in the same bits.
+    pub(crate) fn step_alike([one, two, three]: [&mut World; 3]) {
+        one.step(1).unwrap();
+        two.step(1).unwrap();
+        three.step(1).unwrap();
+        assert!(bits(one) == bits(two));
+        assert!(bits(one) == bits(three));
+    }
+
     /// The heap's islands are swept, and its groups of contacts passed over,
     /// in parallel on two threads (checked, so that the test tests that), and
     /// every step ends in the same bits as on one thread; on three (more
@@ -252,11 +262,7 @@ pub(crate) mod tests {
         let (mut one, mut two, mut three) = (heap(1), heap(2), heap(3));
         let (mut wide_steps, mut group_steps) = (0, 0);
         for _ in 0..40 {
-            one.step(1).unwrap();
-            two.step(1).unwrap();
-            three.step(1).unwrap();
-            assert!(bits(&one) == bits(&two));
-            assert!(bits(&one) == bits(&three));
+            step_alike([&mut one, &mut two, &mut three]);
             let solver = |w: &World| w.collision.as_ref().map(|c| (c.solver.wide(), c.solver.by_groups()));
             let (wide, groups) = solver(&two).unwrap_or_default();
             wide_steps += wide as u32;

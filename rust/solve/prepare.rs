@@ -77,23 +77,6 @@ impl PairBodies {
     }
 }
 
-/// The solver and world bodies of a pair's two sides.
-trait Sides {
-    fn sides(&self) -> ([u32; 2], [u32; 2]);
-}
-
-impl Sides for PairBodies {
-    fn sides(&self) -> ([u32; 2], [u32; 2]) {
-        (self.s, self.b)
-    }
-}
-
-impl Sides for PairContext {
-    fn sides(&self) -> ([u32; 2], [u32; 2]) {
-        ([self.s1, self.s2], [self.b1, self.b2])
-    }
-}
-
 /// Where one constraint goes, decided by the first pass.
 struct Job {
     /// Its pair's context in the pass's list.
@@ -202,7 +185,7 @@ impl ContactSolver {
             note(k, self.bodies.len());
             let state = &narrow.pairs[slot as usize];
             let ctx = self.pair_bodies(colliders, b, state.key, slot);
-            let generalized = self.generalized(&ctx);
+            let generalized = self.generalized((ctx.s, ctx.b));
             let reach = state.prediction;
             let grouping = |all: &[Member], leads: &mut Vec<u32>| coplanar::group(&ctx.context((colliders, Some(narrow)), b), all, leads);
             each_group(state.contacts(), grouping, reach, |group| {
@@ -343,8 +326,7 @@ impl ContactSolver {
     }
 
     /// Whether a pair's constraints touch an articulated link.
-    fn generalized(&self, ctx: &impl Sides) -> bool {
-        let ([s1, s2], [b1, b2]) = ctx.sides();
+    fn generalized(&self, ([s1, s2], [b1, b2]): ([u32; 2], [u32; 2])) -> bool {
         (s1 != 0 && self.is_link(b1)) || (s2 != 0 && self.is_link(b2))
     }
 
@@ -387,7 +369,7 @@ impl ContactSolver {
         let len = group.iter().map(|(_, c)| within(c, reach)).sum();
         let previous = if carry.warm { self.previous.find(ctx.pair, group[0].0) } else { None };
         let start = self.points.len() as u32;
-        let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(ctx) };
+        let job = Job { ctx: 0, members: (0, group.len() as u32), start, len, previous, generalized: self.generalized(([ctx.s1, ctx.s2], [ctx.b1, ctx.b2])) };
         let mut src = Source::new(ctx, group, carry, reach);
         let shared = Shared { bodies: &self.bodies, previous: &self.previous, world, rest: self.rest_depth() };
         let points = &mut self.points;

@@ -1,5 +1,5 @@
 use crate::body::Shape;
-use crate::solve::island_sweeps::tests::bits;
+use crate::solve::island_sweeps::tests::{bits, step_alike};
 use crate::world::{BodySpec, Scene, Settings, World};
 
 /// 1000 balls of 0.1 m in a lattice 0.2 m apart (touching) in a box of
@@ -39,11 +39,7 @@ fn a_pit_split_in_halves_gives_the_bits_of_one_thread() {
     let (mut one, mut two, mut three) = (lattice_pit(1), lattice_pit(2), lattice_pit(3));
     let mut split = 0;
     for _ in 0..40 {
-        one.step(1).unwrap();
-        two.step(1).unwrap();
-        three.step(1).unwrap();
-        assert!(bits(&one) == bits(&two));
-        assert!(bits(&one) == bits(&three));
+        step_alike([&mut one, &mut two, &mut three]);
         let halves = |w: &World| w.collision.as_ref().and_then(|c| c.solver.halves);
         assert_eq!(halves(&one), halves(&two), "the layout does not follow the thread count");
         split += (halves(&two).is_some() && two.contact_threads == 2) as u32;

@@ -270,6 +270,11 @@ pub struct ContactSolver {
     /// only the seam touches after them; see `super::seams`). Not state.
     #[serde(skip)]
     pub(crate) body_ends: Option<[usize; 2]>,
+    /// Per constraint, how far its bodies had moved apart (`Δp2 − Δp1`, m) at
+    /// the last refresh of its arms this step, for the central ones (see
+    /// `ContactSolver::refresh_due`). Not state: zero at each step's build.
+    #[serde(skip)]
+    pub(crate) apart: Vec<Vec3>,
     /// Whether every awake body was slow at this step's start (see
     /// `super::second_pass`; found only in a world with support blocks).
     #[serde(skip)]

@@ -150,6 +150,7 @@ impl ContactSolver {
             self.touching[s.body as usize] = false;
         }
         self.set_aside();
+        self.apart.clear();
         self.bodies.push(SolverBody::default());
         self.p0.clear();
         self.q0.clear();

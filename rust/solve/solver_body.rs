@@ -404,6 +404,29 @@ fn gather_range(bodies: &mut [SolverBody], from: usize, (p0, q0): (&[Vec3], &[Qu
     any
 }
 
+/// Whether constraint `c` is due a refresh of its arms on the solver bodies
+/// `bodies` (after a gather): a body of it moved by more than [`MOVE_EPS`]
+/// since its last refresh. A central contact's refresh reads only how far
+/// its bodies moved apart, `Δp2 − Δp1` (its line of centres, its arms
+/// about the point the masses share, see `refresh`), so it waits until that
+/// changed by `MOVE_EPS` since its own last refresh (`apart`, updated):
+/// balls falling or rolling together keep their contacts' arms.
+fn refresh_due(c: &Constraint, bodies: &[SolverBody], apart: &mut Vec3) -> bool {
+    let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+    if !(a.moved || b.moved) {
+        return false;
+    }
+    if !c.central {
+        return true;
+    }
+    let now = b.dp - a.dp;
+    if (now - *apart).norm_squared() <= MOVE_EPS * MOVE_EPS {
+        return false;
+    }
+    *apart = now;
+    true
+}
+
 /// How far the points of one constraint have moved apart along its normal since
 /// the step start, from the two bodies' pose changes: computed once per
 /// constraint, it gives each point's separation with two dot products.
@@ -513,6 +536,7 @@ impl ContactSolver {
 
     /// The arms of the constraints of the bodies [`Self::gather`] found moved.
     fn refresh_moved(&mut self) {
+        self.apart.resize(self.constraints.len(), Vec3::zeros());
         if self.wide() && self.constraints.len() >= MIN_PARALLEL_REFRESH && self.refresh_in_parallel() {
             return;
         }
@@ -521,8 +545,7 @@ impl ContactSolver {
             // (and no support group: a split step has no blocks).
             self.each_half(h, |cs, range| {
                 for ci in range {
-                    let c = &cs.constraints[ci];
-                    if cs.bodies[c.s1 as usize].moved || cs.bodies[c.s2 as usize].moved {
+                    if refresh_due(&cs.constraints[ci], &cs.bodies, &mut cs.apart[ci]) {
                         cs.refresh_constraint(ci);
                     }
                 }
@@ -531,8 +554,7 @@ impl ContactSolver {
             return;
         }
         for ci in 0..self.constraints.len() {
-            let c = &self.constraints[ci];
-            if self.bodies[c.s1 as usize].moved || self.bodies[c.s2 as usize].moved {
+            if refresh_due(&self.constraints[ci], &self.bodies, &mut self.apart[ci]) {
                 self.refresh_constraint(ci);
             }
         }
@@ -543,14 +565,13 @@ impl ContactSolver {
     /// are not laid out constraint after constraint.
     fn refresh_in_parallel(&mut self) -> bool {
         let bodies = &self.bodies;
-        let moved = |c: &Constraint| bodies[c.s1 as usize].moved || bodies[c.s2 as usize].moved;
         let ranges = self.constraints.iter().map(|c| (c.start as usize, c.len as usize));
         let Some(runs) = super::lists::runs(&mut self.points, ranges) else {
             return false;
         };
         let patches = self.patches.iter_mut().zip(self.shapes.iter_mut());
-        let all = self.constraints.iter_mut().zip(patches).zip(runs);
-        let mut jobs: Vec<_> = all.filter(|((c, _), _)| moved(c)).map(|((c, patch), points)| (c, patch, points)).collect();
+        let all = self.constraints.iter_mut().zip(self.apart.iter_mut()).zip(patches).zip(runs);
+        let mut jobs: Vec<_> = all.filter_map(|(((c, apart), patch), points)| refresh_due(c, bodies, apart).then_some((c, patch, points))).collect();
         jobs.par_iter_mut().for_each(|(c, (patch, shape), points)| refresh(c, (patch, shape), points, bodies));
         let touched: Vec<u32> = jobs.iter().filter(|(c, _, _)| c.lower != 0).map(|(c, _, _)| c.group).collect();
         touched.into_iter().for_each(|g| self.support.touch(g));
@@ -584,6 +605,7 @@ impl ContactSolver {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use super::super::limit_surface::PatchShape;
 
     /// A body of `rounding` as side 2 of a contact of normal +z with the
     /// fixed world, turned by `turn` (rotation vector, rad) since the step start.
@@ -622,6 +644,48 @@ mod tests {
         // Material points would have risen r (1 − cos 0.7) = 23.5 mm.
         let material = gap(Rounding::default(), turn, anchor);
         assert!((material - 0.1 * (1.0 - 0.7f64.cos())).abs() <= 1e-15);
+    }
+
+    /// Two balls of radius 0.1 m touching along +z (ball 1 under ball 2),
+    /// each displaced by `dp1`, `dp2` since the step start: the solver
+    /// bodies (fixed entry, ball 1, ball 2) and their constraint and point.
+    fn two_balls(dp1: Vec3, dp2: Vec3) -> ([SolverBody; 3], Constraint, Point) {
+        let ball = |dp: Vec3| SolverBody { dp, inv_m: 1.0, iso: Some(250.0), inv_i: Mat3::identity() * 250.0, dynamic: true, surface: Surface::Ball, moved: true, ..Default::default() };
+        let bodies = [SolverBody::default(), ball(dp1), ball(dp2)];
+        let c = Constraint { s1: 1, s2: 2, len: 1, normal: Vec3::z(), t1: Vec3::x(), t2: Vec3::y(), central: true, ..Default::default() };
+        let (a1, a2) = (Vec3::new(0.0, 0.0, 0.1), Vec3::new(0.0, 0.0, -0.1));
+        // Touching: `Gap::separation` zero at the step start.
+        let p = Point { anchor1: a1, anchor2: a2, r1: a1, r2: a2, base_separation: a1.z - a2.z, ..Default::default() };
+        (bodies, c, p)
+    }
+
+    #[test]
+    fn balls_moving_together_keep_their_contacts_arms() {
+        // Moved together by 1 mm: the refresh gives back the arms as built
+        // (to round-off of the displacement), so none is due.
+        let together = Vec3::new(1e-3, -2e-3, 0.5e-3);
+        let (bodies, mut c, mut p) = two_balls(together, together);
+        let (built, _) = Patch::new(&c, &[p], &bodies);
+        let mut apart = Vec3::zeros();
+        assert!(!refresh_due(&c, &bodies, &mut apart));
+        let (mut f, mut shape) = (built, PatchShape::default());
+        refresh(&mut c, (&mut f, &mut shape), std::slice::from_mut(&mut p), &bodies);
+        assert!((c.normal - Vec3::z()).norm() <= 1e-15 && (p.base_separation - 0.2).abs() <= 1e-15);
+        assert!((p.r1 - Vec3::new(0.0, 0.0, 0.1)).norm() <= 1e-15);
+        assert!((f.rt1[0] - built.rt1[0]).norm() <= 1e-15 && (f.irt2[1] - built.irt2[1]).norm() <= 1e-13);
+        // Ball 2 moved 2 µm sideways relative to ball 1 (more than MOVE_EPS):
+        // due, and its line of centres turns by 2e-6 / 0.2 rad.
+        let side = Vec3::new(2e-6, 0.0, 0.0);
+        let (bodies, mut c, mut p) = two_balls(together, together + side);
+        assert!(refresh_due(&c, &bodies, &mut apart));
+        assert_eq!(apart, bodies[2].dp - bodies[1].dp);
+        refresh(&mut c, (&mut f, &mut shape), std::slice::from_mut(&mut p), &bodies);
+        assert!((c.normal.x - 2e-6 / 0.2).abs() <= 1e-15);
+        // Not again until they move apart by MOVE_EPS more.
+        assert!(!refresh_due(&c, &bodies, &mut apart));
+        // A contact that is not central is due whenever a body moved.
+        let box_contact = Constraint { central: false, ..c };
+        assert!(refresh_due(&box_contact, &bodies, &mut apart));
     }
 
     #[test]

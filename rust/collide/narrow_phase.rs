@@ -209,9 +209,15 @@ fn step_pair(state: &mut PairState, (colliders, poses): (&[Collider], &[Isometry
     let (approach, prediction) = reach_of(colliders, bodies, state.key, pred)?;
     let (c1, c2) = (&colliders[state.key.0 as usize], &colliders[state.key.1 as usize]);
     state.prediction = super::passing::narrowed(c1, c2, bodies, pred, &approach, prediction);
-    let pose = |k: u32, c: &Collider| poses.get(k as usize).copied().unwrap_or_else(|| c.pose(bodies));
-    let pos12 = pose(state.key.0, c1).inv_mul(&pose(state.key.1, c2));
+    let pos12 = pose_in(poses, state.key.0, c1, bodies).inv_mul(&pose_in(poses, state.key.1, c2, bodies));
     Some(update_pair(state, c1, c2, (bodies, &pos12)))
+}
+
+/// The world pose of collider `k` (`c`) at the bodies `bodies`: the one
+/// in `poses` (the narrow phase's, found at these bodies) if there is one,
+/// else found now.
+pub fn pose_in(poses: &[Isometry3<f64>], k: u32, c: &Collider, bodies: &Bodies) -> Isometry3<f64> {
+    poses.get(k as usize).copied().unwrap_or_else(|| c.pose(bodies))
 }
 
 /// How collider pair `key` approaches and how far ahead its contacts are
@@ -298,10 +304,11 @@ impl NarrowPhase {
         self.order = order;
     }
 
-    /// World pose of collider `k` at the bodies of the last `update`, if
-    /// it found the poses and they are not yet forgotten.
-    pub fn pose_of(&self, k: u32) -> Option<&Isometry3<f64>> {
-        self.poses.get(k as usize)
+    /// The colliders' world poses at the bodies of the last `update`, if it
+    /// found them and they are not yet forgotten (else empty; see
+    /// [`pose_in`]).
+    pub fn poses(&self) -> &[Isometry3<f64>] {
+        &self.poses
     }
 
     /// Forgets the poses `update` found: the bodies have moved on.

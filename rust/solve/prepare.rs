@@ -19,7 +19,7 @@ use super::solver_body::{Rounding, SolverBody, Surface};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
 use crate::collide::material::combine;
-use crate::collide::narrow_phase::{Contacts, NarrowPhase};
+use crate::collide::narrow_phase::{pose_in, Contacts, NarrowPhase};
 use crate::math::{Mat3, Quat, Vec3};
 pub(crate) use still::Carry;
 
@@ -59,13 +59,14 @@ impl PairBodies {
     fn context(&self, (colliders, narrow): (&[Collider], Option<&NarrowPhase>), b: &Bodies) -> PairContext {
         let (c1, c2) = (&colliders[self.pair.0 as usize], &colliders[self.pair.1 as usize]);
         let [b1, b2] = self.b;
+        let poses = narrow.map_or(&[][..], |n| n.poses());
         PairContext {
             s1: self.s[0],
             s2: self.s[1],
             b1,
             b2,
-            pose1: narrow.and_then(|n| n.pose_of(self.pair.0)).copied().unwrap_or_else(|| c1.pose(b)),
-            pose2: narrow.and_then(|n| n.pose_of(self.pair.1)).copied().unwrap_or_else(|| c2.pose(b)),
+            pose1: pose_in(poses, self.pair.0, c1, b),
+            pose2: pose_in(poses, self.pair.1, c2, b),
             x1: Vec3::from(b.position[b1 as usize]),
             x2: Vec3::from(b.position[b2 as usize]),
             material: combine(&c1.material, &c2.material),

@@ -256,6 +256,10 @@ pub struct ContactSolver {
     /// `super::seams`): the next step builds them half by half.
     #[serde(default)]
     pub(crate) split: bool,
+    /// Pairs whose constraints the last serial build updated in place (see
+    /// `prepare_in_place`).
+    #[serde(skip)]
+    pub(crate) in_place: usize,
     /// Where the halves of this step's constraints end (the seam after
     /// them), if they may be passed over side by side (see `super::seams`).
     /// Not state.

@@ -42,6 +42,9 @@ pub struct Preparation {
 #[path = "prepare_still.rs"]
 mod still;
 
+#[path = "prepare_in_place.rs"]
+mod in_place;
+
 /// A collider pair's solver bodies, found in the build's first pass (in
 /// order: it enters new ones); the rest of its [`PairContext`] is found
 /// where its constraints are laid out.
@@ -115,17 +118,16 @@ impl ContactSolver {
         let halves = self.build_order(narrow, colliders, b);
         let order = halves.as_ref().map_or(&narrow.touching[..], |(o, _)| &o[..]);
         self.body_ends = None;
+        self.in_place = 0;
         if step.parallel && order.len() >= MIN_PARALLEL {
             let pair_ends = halves.as_ref().map(|(_, e)| *e);
             let (contexts, jobs, members) = self.place(narrow, (order, pair_ends), colliders, b);
             self.lay_out((narrow, colliders), (&contexts, &jobs, &members), b);
         } else {
-            self.constraints.clear();
-            self.points.clear();
-            self.patches.clear();
-            self.shapes.clear();
+            let done = self.build_in_place(narrow, order, colliders, b);
+            self.in_place = done;
             // One pass: each manifold's points are written once, while in cache.
-            for &slot in order {
+            for &slot in order.get(done..).unwrap_or_default() {
                 let state = &narrow.pairs[slot as usize];
                 let ctx = self.pair_context((colliders, Some(narrow)), b, state.key, slot);
                 self.push_pair(state.contacts(), &ctx, (Carry::of(state), state.prediction), b);

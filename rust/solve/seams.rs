@@ -209,4 +209,4 @@ impl SharedPairs {
 
 #[cfg(test)]
 #[path = "seams_tests.rs"]
-mod tests;
+pub(crate) mod tests;

@@ -4,7 +4,7 @@ use crate::world::{BodySpec, Scene, Settings, World};
 
 /// 1000 balls of 0.1 m in a lattice 0.2 m apart (touching) in a box of
 /// fixed walls: some 2800 touching pairs from the first step.
-fn lattice_pit(threads: u32) -> World {
+pub(crate) fn lattice_pit(threads: u32) -> World {
     let mut sc = Scene::new([0.0, 0.0, -9.81]).unwrap();
     let (half, t) = (1.0, 0.1);
     let walls = [

@@ -1,0 +1,132 @@
+//! A serial build whose contacts are last step's, pair for pair, each kept
+//! whole: the records are updated where they lie instead of laid out again
+//! and copied.
+//!
+//! The build writes a constraint, a point, a patch and a patch shape per
+//! contact (1064 bytes) into arrays last written two steps before, and reads
+//! last step's to keep the geometry: a 1000-ball pit at rest spent 500 µs a
+//! step there against Rapier's 64 for its constraints (`benches/README.md`).
+//! When every contact of last step is a ball's (one point, central: see
+//! [`Constraint::central`]), in this step's pair order, and keeps its geometry
+//! as `reuse::holds` judges it, each record is rebuilt by the same code in
+//! its own slot of last step's arrays, which then become this step's. The
+//! arithmetic is the serial build's, so are the bits.
+//!
+//! A pair that does not qualify stops the update there: the records updated
+//! so far go first in this step's arrays and the serial build takes the rest
+//! (last step's records it may still look up are as they were, and those
+//! updated before hold the same geometry, one point each).
+
+use super::{each_group, within, Carry, Job, Shared, Source};
+use crate::body::Bodies;
+use crate::collide::collider::Collider;
+use crate::collide::narrow_phase::NarrowPhase;
+use crate::solve::contact::{ContactSolver, Point};
+use crate::solve::friction::Patch;
+use crate::solve::reuse;
+
+impl ContactSolver {
+    /// Builds this step's constraints of the pairs `order` (slots in the
+    /// narrow phase) by updating last step's in place, as far as they
+    /// qualify (see the module docs); returns how many pairs it built.
+    /// Before the build's other path: this step's arrays then hold exactly
+    /// those pairs' records, and `previous.kept` theirs.
+    pub(super) fn build_in_place(&mut self, narrow: &NarrowPhase, order: &[u32], colliders: &[Collider], b: &Bodies) -> usize {
+        self.constraints.clear();
+        self.points.clear();
+        self.patches.clear();
+        self.shapes.clear();
+        if !self.may_update_in_place(narrow, order) {
+            return 0;
+        }
+        let mut kept = std::mem::take(&mut self.previous.kept);
+        kept.clear();
+        for (k, &slot) in order.iter().enumerate() {
+            match self.update_one(narrow, (k, slot), colliders, b) {
+                Some(o) => kept.push(o.map_or(reuse::NONE, |o| o as u32)),
+                None => break,
+            }
+        }
+        let done = kept.len();
+        let p = &mut self.previous;
+        p.kept = kept;
+        if done == order.len() {
+            std::mem::swap(&mut self.constraints, &mut p.constraints);
+            std::mem::swap(&mut self.points, &mut p.points);
+            std::mem::swap(&mut self.patches, &mut p.patches);
+            std::mem::swap(&mut self.shapes, &mut p.shapes);
+        } else {
+            self.constraints.extend_from_slice(&p.constraints[..done]);
+            self.points.extend_from_slice(&p.points[..done]);
+            self.patches.extend_from_slice(&p.patches[..done]);
+            self.shapes.extend_from_slice(&p.shapes[..done]);
+        }
+        done
+    }
+
+    /// Whether last step's constraints are one a pair, in the order of
+    /// `order`, each a ball's that was built this way and not changed since
+    /// (a refresh within the step clears `as_built`), and no pair keeps its
+    /// manifolds (those take the still path: see `prepare_still`).
+    fn may_update_in_place(&self, narrow: &NarrowPhase, order: &[u32]) -> bool {
+        let p = &self.previous;
+        let n = order.len();
+        if n == 0 || p.constraints.len() != n || p.points.len() != n || p.patches.len() != n || p.shapes.len() != n {
+            return false;
+        }
+        order.iter().zip(&p.constraints).enumerate().all(|(k, (&slot, c))| {
+            let simple = c.slot == slot && c.central && c.len == 1 && c.start as usize == k && !c.generalized;
+            simple && narrow.pairs.get(slot as usize).is_some_and(|s| !s.still && !s.keeps_manifolds())
+        })
+    }
+
+    /// The records of pair `slot`, the `k`-th, written over last step's at
+    /// `k` as the serial build would write them, and the last step's
+    /// constraint whose geometry they kept (`k` or none); `None` (nothing
+    /// written) if they do not qualify.
+    fn update_one(&mut self, narrow: &NarrowPhase, (k, slot): (usize, u32), colliders: &[Collider], b: &Bodies) -> Option<Option<usize>> {
+        let state = narrow.pairs.get(slot as usize)?;
+        let ctx = self.pair_context((colliders, Some(narrow)), b, state.key, slot);
+        let (carry, reach) = (Carry::of(state), state.prediction);
+        let mut group = None;
+        let mut groups = 0;
+        each_group(state.contacts(), |_, _| 0, reach, |g| {
+            groups += 1;
+            group = g.first().copied().filter(|_| g.len() == 1);
+        });
+        let member = group.filter(|m| groups == 1 && within(&m.1, reach) == 1)?;
+        let old = self.previous.constraints[k];
+        let job = Job { ctx: 0, members: (0, 1), start: k as u32, len: 1, previous: Some(k), generalized: self.generalized(([ctx.s1, ctx.s2], [ctx.b1, ctx.b2])) };
+        if member.0 != old.manifold || job.generalized {
+            return None;
+        }
+        let members = [member];
+        let src = Source::new(&ctx, &members, carry, reach);
+        let (mut point, mut laid) = (Point::default(), 0);
+        src.points(|p| {
+            point = p;
+            laid += 1;
+        });
+        if laid != 1 {
+            return None;
+        }
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world: b, rest: self.rest_depth() };
+        // A ball's, its geometry kept (by `reuse::holds`) or found afresh.
+        let (constraint, kept) = shared.constraint(&job, &src, std::slice::from_mut(&mut point));
+        if !constraint.central {
+            return None;
+        }
+        let (mut patch, mut shape) = (Patch::default(), shared.previous.shapes[k]);
+        shared.patch((&mut patch, &mut shape), &constraint, kept, &src, std::slice::from_ref(&point));
+        let p = &mut self.previous;
+        p.points[k] = point;
+        p.constraints[k] = constraint;
+        p.patches[k] = patch;
+        p.shapes[k] = shape;
+        Some(kept)
+    }
+}
+
+#[cfg(test)]
+#[path = "prepare_in_place_tests.rs"]
+mod tests;

@@ -112,6 +112,11 @@ impl Patch {
         self.spin = o.spin;
         self.spin_mass = o.spin_mass;
         self.drift = o.drift;
+        self.forget_impulses();
+    }
+
+    /// No impulses, totals or regime: the patch's geometry for a new step.
+    pub fn forget_impulses(&mut self) {
         self.impulse = [0.0; 2];
         self.twist = 0.0;
         self.total = [0.0; 2];

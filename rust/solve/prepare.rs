@@ -625,17 +625,24 @@ impl Shared<'_> {
                 patch.set_geometry(shape, c, pts, self.bodies);
             }
         }
-        patch.spin = if c.central { spin_lever(src.ctx, pts, self.rest) } else { 0.0 };
-        if src.warm {
-            // Each point carries its share of the patch's impulses: summed, they
-            // survive points that appear or vanish between steps.
-            let ft: Vec3 = src.all_points().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
-            patch.impulse = [ft.dot(&c.t1), ft.dot(&c.t2)];
-            if patch.lever > 0.0 || patch.spin > 0.0 {
-                patch.twist = src.all_points().map(|tp| tp.data.twist_impulse).sum();
-            }
-            patch.sliding = src.all_points().any(|tp| tp.data.sliding);
+        warm_patch(patch, c, src, pts, self.rest);
+    }
+}
+
+/// The spin lever and warm start of constraint `c`'s patch, its geometry
+/// set (see [`Shared::patch`]).
+#[inline(always)]
+fn warm_patch(patch: &mut Patch, c: &Constraint, src: &Source, pts: &[Point], rest: f64) {
+    patch.spin = if c.central { spin_lever(src.ctx, pts, rest) } else { 0.0 };
+    if src.warm {
+        // Each point carries its share of the patch's impulses: summed, they
+        // survive points that appear or vanish between steps.
+        let ft: Vec3 = src.all_points().map(|tp| Vec3::from(tp.data.friction_impulse)).sum();
+        patch.impulse = [ft.dot(&c.t1), ft.dot(&c.t2)];
+        if patch.lever > 0.0 || patch.spin > 0.0 {
+            patch.twist = src.all_points().map(|tp| tp.data.twist_impulse).sum();
         }
+        patch.sliding = src.all_points().any(|tp| tp.data.sliding);
     }
 }
 

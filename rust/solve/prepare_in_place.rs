@@ -17,7 +17,7 @@
 //! (last step's records it may still look up are as they were, and those
 //! updated before hold the same geometry, one point each).
 
-use super::{each_group, within, Carry, Job, Shared, Source};
+use super::{each_group, warm_patch, within, Carry, Job, Shared, Source};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
 use crate::collide::narrow_phase::NarrowPhase;
@@ -110,19 +110,26 @@ impl ContactSolver {
         if laid != 1 {
             return None;
         }
-        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world: b, rest: self.rest_depth() };
+        let rest = self.rest_depth();
+        let shared = Shared { bodies: &self.bodies, previous: &self.previous, world: b, rest };
         // A ball's, its geometry kept (by `reuse::holds`) or found afresh.
         let (constraint, kept) = shared.constraint(&job, &src, std::slice::from_mut(&mut point));
         if !constraint.central {
             return None;
         }
-        let (mut patch, mut shape) = (Patch::default(), shared.previous.shapes[k]);
-        shared.patch((&mut patch, &mut shape), &constraint, kept, &src, std::slice::from_ref(&point));
         let p = &mut self.previous;
+        let (patch, pts) = (&mut p.patches[k], std::slice::from_ref(&point));
+        // As `Shared::patch` leaves it: the kept geometry is the slot's own.
+        match kept {
+            Some(_) => patch.forget_impulses(),
+            None => {
+                *patch = Patch::default();
+                patch.set_geometry(&mut p.shapes[k], &constraint, pts, &self.bodies);
+            }
+        }
+        warm_patch(patch, &constraint, &src, pts, rest);
         p.points[k] = point;
         p.constraints[k] = constraint;
-        p.patches[k] = patch;
-        p.shapes[k] = shape;
         Some(kept)
     }
 }

@@ -6,11 +6,11 @@
 //! contact (1064 bytes) into arrays last written two steps before, and reads
 //! last step's to keep the geometry: a 1000-ball pit at rest spent 500 µs a
 //! step there against Rapier's 64 for its constraints (`benches/README.md`).
-//! When every contact of last step is a ball's (one point, central: see
-//! [`Constraint::central`]), in this step's pair order, and keeps its geometry
-//! as `reuse::holds` judges it, each record is rebuilt by the same code in
-//! its own slot of last step's arrays, which then become this step's. The
-//! arithmetic is the serial build's, so are the bits.
+//! While this step's pairs come in last step's order and each is a ball's
+//! (one point, central: see `Constraint::central`), each record is rebuilt by
+//! the same code in its own slot of last step's arrays, its geometry kept
+//! where `reuse::holds` keeps it; when every pair was, those arrays become
+//! this step's. The arithmetic is the serial build's, so are the bits.
 //!
 //! A pair that does not qualify stops the update there: the records updated
 //! so far go first in this step's arrays and the serial build takes the rest
@@ -36,9 +36,6 @@ impl ContactSolver {
         self.points.clear();
         self.patches.clear();
         self.shapes.clear();
-        if !self.may_update_in_place(narrow, order) {
-            return 0;
-        }
         let mut kept = std::mem::take(&mut self.previous.kept);
         kept.clear();
         for (k, &slot) in order.iter().enumerate() {
@@ -50,11 +47,16 @@ impl ContactSolver {
         let done = kept.len();
         let p = &mut self.previous;
         p.kept = kept;
-        if done == order.len() {
+        if done == order.len() && done > 0 {
             std::mem::swap(&mut self.constraints, &mut p.constraints);
             std::mem::swap(&mut self.points, &mut p.points);
             std::mem::swap(&mut self.patches, &mut p.patches);
             std::mem::swap(&mut self.shapes, &mut p.shapes);
+            // Last step's pairs beyond this step's.
+            self.constraints.truncate(done);
+            self.points.truncate(done);
+            self.patches.truncate(done);
+            self.shapes.truncate(done);
         } else {
             self.constraints.extend_from_slice(&p.constraints[..done]);
             self.points.extend_from_slice(&p.points[..done]);
@@ -64,20 +66,17 @@ impl ContactSolver {
         done
     }
 
-    /// Whether last step's constraints are one a pair, in the order of
-    /// `order`, each a ball's that was built this way and not changed since
-    /// (a refresh within the step clears `as_built`), and no pair keeps its
-    /// manifolds (those take the still path: see `prepare_still`).
-    fn may_update_in_place(&self, narrow: &NarrowPhase, order: &[u32]) -> bool {
+    /// Whether last step's `k`-th constraint is pair `slot`'s, a ball's (one
+    /// point, the `k`-th, central) and may be updated where it lies: not an
+    /// articulated link's, nor of a pair that keeps its manifolds (those take
+    /// the still path: see `prepare_still`).
+    fn may_update(&self, state: &crate::collide::narrow_phase::PairState, (k, slot): (usize, u32)) -> bool {
         let p = &self.previous;
-        let n = order.len();
-        if n == 0 || p.constraints.len() != n || p.points.len() != n || p.patches.len() != n || p.shapes.len() != n {
-            return false;
-        }
-        order.iter().zip(&p.constraints).enumerate().all(|(k, (&slot, c))| {
-            let simple = c.slot == slot && c.central && c.len == 1 && c.start as usize == k && !c.generalized;
-            simple && narrow.pairs.get(slot as usize).is_some_and(|s| !s.still && !s.keeps_manifolds())
-        })
+        let slots = k < p.points.len() && k < p.patches.len() && k < p.shapes.len();
+        let simple = |c: &crate::solve::contact::Constraint| {
+            c.slot == slot && c.central && c.len == 1 && c.start as usize == k && !c.generalized
+        };
+        slots && p.constraints.get(k).is_some_and(simple) && !state.still && !state.keeps_manifolds()
     }
 
     /// The records of pair `slot`, the `k`-th, written over last step's at
@@ -85,7 +84,7 @@ impl ContactSolver {
     /// constraint whose geometry they kept (`k` or none); `None` (nothing
     /// written) if they do not qualify.
     fn update_one(&mut self, narrow: &NarrowPhase, (k, slot): (usize, u32), colliders: &[Collider], b: &Bodies) -> Option<Option<usize>> {
-        let state = narrow.pairs.get(slot as usize)?;
+        let state = narrow.pairs.get(slot as usize).filter(|s| self.may_update(s, (k, slot)))?;
         let ctx = self.pair_context((colliders, Some(narrow)), b, state.key, slot);
         let (carry, reach) = (Carry::of(state), state.prediction);
         let mut group = None;
@@ -95,9 +94,9 @@ impl ContactSolver {
             group = g.first().copied().filter(|_| g.len() == 1);
         });
         let member = group.filter(|m| groups == 1 && within(&m.1, reach) == 1)?;
-        let old = self.previous.constraints[k];
+        let manifold = self.previous.constraints[k].manifold;
         let job = Job { ctx: 0, members: (0, 1), start: k as u32, len: 1, previous: Some(k), generalized: self.generalized(([ctx.s1, ctx.s2], [ctx.b1, ctx.b2])) };
-        if member.0 != old.manifold || job.generalized {
+        if member.0 != manifold || job.generalized {
             return None;
         }
         let members = [member];

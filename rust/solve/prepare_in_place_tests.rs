@@ -56,3 +56,20 @@ fn a_pit_whose_ball_got_heavy_ends_its_update_in_place_there() {
         assert!(bits(&one) == bits(&two));
     }
 }
+
+/// A resting pit restored from its bytes on one thread updates its
+/// constraints in place as the one that kept going (last step's records are
+/// in the snapshot) and ends in the same bits.
+#[test]
+fn a_resting_pit_restored_from_bytes_updates_in_place_to_the_same_bits() {
+    let mut kept = lattice_pit(1);
+    kept.step(30).unwrap();
+    let mut restored = World::from_bytes(&kept.to_bytes().unwrap()).unwrap();
+    for _ in 0..10 {
+        kept.step(1).unwrap();
+        restored.step(1).unwrap();
+        assert_eq!(in_place(&kept), in_place(&restored));
+        assert!(bits(&kept) == bits(&restored));
+    }
+    assert!(in_place(&restored).0 > 0, "the restored pit did not update in place");
+}

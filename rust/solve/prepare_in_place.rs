@@ -17,7 +17,7 @@
 //! (last step's records it may still look up are as they were, and those
 //! updated before hold the same geometry, one point each).
 
-use super::{each_group, warm_patch, within, Carry, Job, Shared, Source};
+use super::{warm_patch, within, Carry, Job, Shared, Source};
 use crate::body::Bodies;
 use crate::collide::collider::Collider;
 use crate::collide::narrow_phase::NarrowPhase;
@@ -87,28 +87,19 @@ impl ContactSolver {
         let state = narrow.pairs.get(slot as usize).filter(|s| self.may_update(s, (k, slot)))?;
         let ctx = self.pair_context((colliders, Some(narrow)), b, state.key, slot);
         let (carry, reach) = (Carry::of(state), state.prediction);
-        let mut group = None;
-        let mut groups = 0;
-        each_group(state.contacts(), |_, _| 0, reach, |g| {
-            groups += 1;
-            group = g.first().copied().filter(|_| g.len() == 1);
-        });
-        let member = group.filter(|m| groups == 1 && within(&m.1, reach) == 1)?;
+        // The pair's one manifold with a point within reach (as `each_group`
+        // finds it), last step's, with that one point.
         let manifold = self.previous.constraints[k].manifold;
+        let mut touching = state.contacts().filter(|(_, c)| within(c, reach) > 0);
+        let member = touching.next().filter(|(m, c)| *m == manifold && within(c, reach) == 1)?;
         let job = Job { ctx: 0, members: (0, 1), start: k as u32, len: 1, previous: Some(k), generalized: self.generalized(([ctx.s1, ctx.s2], [ctx.b1, ctx.b2])) };
-        if member.0 != manifold || job.generalized {
+        if touching.next().is_some() || job.generalized {
             return None;
         }
         let members = [member];
         let src = Source::new(&ctx, &members, carry, reach);
-        let (mut point, mut laid) = (Point::default(), 0);
-        src.points(|p| {
-            point = p;
-            laid += 1;
-        });
-        if laid != 1 {
-            return None;
-        }
+        let mut point = Point::default();
+        src.points(|p| point = p);
         let rest = self.rest_depth();
         let shared = Shared { bodies: &self.bodies, previous: &self.previous, world: b, rest };
         // A ball's, its geometry kept (by `reuse::holds`) or found afresh.

@@ -12,7 +12,8 @@
 use super::friction::Patch;
 use super::limit_surface::PatchShape;
 use super::soft::Softness;
-use super::solver_body::{Gap, Pair, SolverBody};
+use super::pair::Pair;
+use super::solver_body::{Gap, SolverBody};
 use crate::body::Bodies;
 use crate::collide::corners::Corners;
 use crate::collide::material::ContactMaterial;

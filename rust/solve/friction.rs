@@ -16,7 +16,8 @@
 use super::contact::{Constraint, ContactSolver, Point};
 use super::impulse::{close_gaps, Rule};
 use super::limit_surface::{inside, norm2, onto, PatchShape};
-use super::solver_body::{Gap, Pair, SolverBody};
+use super::pair::Pair;
+use super::solver_body::{Gap, SolverBody};
 use crate::math::Vec3;
 
 /// Slip speed (m/s) below which a sliding patch's friction keeps the direction of

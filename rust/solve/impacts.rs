@@ -18,7 +18,7 @@
 
 use super::contact::{Constraint, ContactSolver, RESTING_APPROACH};
 use super::friction::Patch;
-use super::solver_body::Pair;
+use super::pair::Pair;
 use crate::collide::narrow_phase::{manifolds_of, Manifold};
 use crate::collide::Collider;
 use crate::integrate::free_rotation::flow_one;

@@ -24,7 +24,8 @@ use super::contact::{Constraint, ContactSolver, Point};
 use super::small_lcp::{small_lcp, MAX_POINTS};
 use super::soft::Softness;
 use super::warm_guard::in_pass;
-use super::solver_body::{Gap, Pair, SolverBody};
+use super::pair::Pair;
+use super::solver_body::{Gap, SolverBody};
 
 /// Sweeps over the points of a manifold that has no warm start.
 const FRESH_SWEEPS: u32 = 4;

@@ -28,6 +28,8 @@ pub mod support;
 pub(crate) mod team;
 pub mod soft;
 pub mod solver_body;
+pub mod pair;
+pub mod gather;
 pub mod warm_guard;
 pub mod release;
 pub mod reuse;

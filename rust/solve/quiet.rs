@@ -260,7 +260,7 @@ impl ContactSolver {
                 }
             }
             // The arms follow the bodies within the kept geometry's tolerance.
-            (b.low, b.high, b.arm) = (low, high, arm2.sqrt() * (1.0 + ARM_SLACK) + super::solver_body::MOVE_EPS);
+            (b.low, b.high, b.arm) = (low, high, arm2.sqrt() * (1.0 + ARM_SLACK) + super::gather::MOVE_EPS);
         };
         // Each block from its own rows: the same bits on any thread.
         if self.parallel && s.blocks.len() >= super::support::MIN_PARALLEL_PLAN {

@@ -13,7 +13,8 @@
 use super::contact::ContactSolver;
 use super::impulse::Rule;
 use super::warm_guard::in_pass;
-use super::solver_body::{Gap, Pair};
+use super::pair::Pair;
+use super::solver_body::Gap;
 
 impl ContactSolver {
     /// One pass (of the first, velocity pass: `rule` pushes out) over the points

@@ -5,7 +5,7 @@
 //!
 //! A resting pyramid rebuilt them every step for nothing: the patch geometry and
 //! the blocks took 22 % of its step. The tolerance is the one within a step (see
-//! `solver_body::MOVE_EPS`): a body that has moved less than 1 µm keeps its
+//! `gather::MOVE_EPS`): a body that has moved less than 1 µm keeps its
 //! arms. Kept geometry is taken whole, anchors and normal included, so what the
 //! solve sees is exactly what was computed at those anchors, and the next step
 //! compares against the same anchors: a slow creep adds up until it shows.
@@ -23,7 +23,7 @@ use crate::math::{Mat3, Quat, Vec3};
 
 /// Displacement (m) and quaternion change below which geometry is kept: the
 /// substeps' tolerance.
-const KEEP_EPS: f64 = super::solver_body::MOVE_EPS;
+const KEEP_EPS: f64 = super::gather::MOVE_EPS;
 
 /// The previous step's constraints and blocks, kept for their geometry.
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]

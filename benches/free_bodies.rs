@@ -30,7 +30,7 @@ use criterion::measurement::WallTime;
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use rigidrs::body::{Bodies, Shape};
 use rigidrs::collide::Filter;
-use rigidrs::integrate::{drift, free_rotation, Integrator};
+use rigidrs::integrate::{drift, fast_rotation, free_rotation, Integrator};
 use rigidrs::world::{BodySpec, Scene, Settings, World};
 
 const N: usize = 10_000;
@@ -226,7 +226,7 @@ fn pipeline(c: &mut Criterion) {
 
     // The kernel as the world runs it: with the default limit on the rotation per
     // split (no body here comes near it: `fast` stays empty).
-    let sub = free_rotation::Substeps::new(world.settings().rotation_angle(), DT, &[1.0]);
+    let sub = fast_rotation::Substeps::new(world.settings().rotation_angle(), DT, &[1.0]);
     let mut fast = Vec::new();
     let mut g = c.benchmark_group("pipeline");
     configure(&mut g);

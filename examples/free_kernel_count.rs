@@ -28,7 +28,7 @@
 
 use rigidrs::body::Shape;
 use rigidrs::collide::Filter;
-use rigidrs::integrate::{drift, free_rotation, BodyLists};
+use rigidrs::integrate::{drift, fast_rotation, free_rotation, BodyLists};
 use rigidrs::world::{BodySpec, Scene, Settings, World};
 
 const N: usize = 10_000;
@@ -112,7 +112,7 @@ fn run_guarded(world: &mut World, steps: u64) -> Result<(), String> {
 fn run_kernel(world: &mut World, lists: &BodyLists, steps: u64) {
     // The default limit on the rotation per split, as the world uses it.
     let dt = world.dt();
-    let sub = free_rotation::Substeps::new(world.settings().rotation_angle(), dt, &[1.0]);
+    let sub = fast_rotation::Substeps::new(world.settings().rotation_angle(), dt, &[1.0]);
     let mut fast = Vec::new();
     for _ in 0..steps {
         drift::translate(&mut world.bodies, &lists.dynamic, std::hint::black_box(dt));

@@ -20,7 +20,7 @@
 use rigidrs::body::storage::BodyInit;
 use rigidrs::body::{BodyKind, Bodies};
 use rigidrs::integrate::classes::{aniso, classify};
-use rigidrs::integrate::{free_rotation, Aniso, InertiaClass, Integrator};
+use rigidrs::integrate::{fast_rotation, free_rotation, Aniso, InertiaClass, Integrator};
 use rigidrs::math::{quat, Vec3};
 
 /// `K(m)` (`m = k²`) by the arithmetic-geometric mean: `π / (2 AGM(1, √(1 − m)))`.
@@ -123,7 +123,7 @@ fn run(case: &Case, integrator: Integrator, theta: f64, periods: f64) -> Errors 
     let (class, axes) = classify(&case.inertia);
     assert_eq!(class, InertiaClass::Asymmetric, "{}", case.name);
     let a: Aniso = aniso(0, &case.inertia, axes);
-    let omega = free_rotation::orbit_max_omega(&b, &a);
+    let omega = fast_rotation::orbit_max_omega(&b, &a);
     let h = theta / omega;
     let period = exact_period(case.inertia, case.w);
     let steps = (periods * period / h).ceil() as usize;
@@ -176,7 +176,7 @@ fn main() {
             inertia: case.inertia,
         });
         let a = aniso(0, &case.inertia, classify(&case.inertia).1);
-        let ratio = free_rotation::orbit_max_omega(&b, &a) / Vec3::from(case.w).norm();
+        let ratio = fast_rotation::orbit_max_omega(&b, &a) / Vec3::from(case.w).norm();
         println!("\n{} — I = {:.4?}, ω0 = {:?}, W/|ω0| = {ratio:.3}", case.name, case.inertia, case.w);
         println!("{:>9} | {:>28} | {:>28} | {:>28}", "θ = W·h", "strang: dE  dP  d|L|", "yoshida4", "suzuki4");
         for &theta in &thetas {

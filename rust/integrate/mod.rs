@@ -9,6 +9,7 @@ pub mod classes;
 pub mod composition;
 pub mod drift;
 pub mod euler;
+pub mod fast_rotation;
 pub mod free_rotation;
 pub mod implicit_gyro;
 pub mod kick;
@@ -132,7 +133,7 @@ impl Integrator {
 
     /// The largest angle (rad) one step of the method may turn an asymmetric body
     /// by, taken at the largest `|ω|` of its free orbit, before that body's
-    /// rotation is subdivided ([`free_rotation::Substeps`]; for RK4, which does
+    /// rotation is subdivided ([`fast_rotation::Substeps`]; for RK4, which does
     /// not split, [`RK4_MAX_ANGLE`]); infinite for euler, symplectic_euler and
     /// implicit_gyro, whose first-order rotation substeps would not buy the bars.
     ///

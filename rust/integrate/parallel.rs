@@ -8,7 +8,8 @@
 
 use rayon::prelude::*;
 
-use super::free_rotation::{self, Substeps};
+use super::fast_rotation::Substeps;
+use super::free_rotation;
 use super::Aniso;
 use crate::body::Bodies;
 

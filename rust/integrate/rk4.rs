@@ -4,7 +4,7 @@
 //! step, so position and momenta are exact; the rotation is fourth order.
 //! Without torque the world `L` does not change, so `|L|` is kept to round-off.
 
-use super::free_rotation::Substeps;
+use super::fast_rotation::Substeps;
 use super::kick::KickSources;
 use crate::body::Bodies;
 use crate::math::{quat, Quat, Vec3};

@@ -6,9 +6,9 @@ use super::pipeline::{Group, Stage, StageKind};
 use super::{validate, World};
 use crate::error::Result;
 use crate::integrate::kick::KickSources;
-use crate::integrate::free_rotation::Substeps;
+use crate::integrate::fast_rotation::Substeps;
 use crate::integrate::{
-    drift, euler, free_rotation, implicit_gyro, kick, parallel, rk4, symplectic_euler, Aniso, BodyLists, Gyroscopic,
+    drift, euler, fast_rotation, implicit_gyro, kick, parallel, rk4, symplectic_euler, Aniso, BodyLists, Gyroscopic,
     InertiaClass, Rotation,
 };
 
@@ -221,7 +221,7 @@ impl World {
             StageKind::RotateFast(_) => {
                 // The whole step (the stage's fraction is 1) in rotation substeps.
                 let sub = Substeps::new(self.settings.rotation_angle(), step, &self.fast_weights);
-                free_rotation::rotate_fast(&mut self.bodies, &self.fast, hf, sub);
+                fast_rotation::rotate_fast(&mut self.bodies, &self.fast, hf, sub);
             }
             StageKind::Rk4 { group: g, forces } => {
                 let none = KickSources { gravity: Vec3::zeros(), force: false, torque: false };
@@ -303,7 +303,7 @@ impl World {
         };
         let step = if stage.whole { self.settings.dt } else { self.settings.dt / self.substeps as f64 };
         let max_rate = Substeps::new(self.settings.rotation_angle(), step, &[]).max_rate;
-        lists.asymmetric.iter().any(|a| free_rotation::orbit_max_omega(&self.bodies, a) > max_rate)
+        lists.asymmetric.iter().any(|a| fast_rotation::orbit_max_omega(&self.bodies, a) > max_rate)
     }
 
     fn with_solver(&mut self, f: impl FnOnce(&mut crate::solve::ContactSolver, &mut Bodies)) {

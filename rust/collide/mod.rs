@@ -11,6 +11,7 @@ mod face_clip;
 pub mod fat_pairs;
 mod internal_edges;
 pub mod face_points;
+pub mod manifolds;
 pub mod material;
 pub mod mesh_side;
 pub mod narrow_phase;

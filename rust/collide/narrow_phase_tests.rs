@@ -2,6 +2,7 @@
 
 use super::*;
 use nalgebra::Point3;
+use parry3d_f64::shape::PackedFeatureId;
 
 /// A point stored while it touched, then beyond the prediction, carries
 /// nothing into the next step's warm start (its stale friction share

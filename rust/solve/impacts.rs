@@ -19,7 +19,8 @@
 use super::contact::{Constraint, ContactSolver, RESTING_APPROACH};
 use super::friction::Patch;
 use super::pair::Pair;
-use crate::collide::narrow_phase::{manifolds_of, Manifold};
+use crate::collide::manifolds::manifolds_of;
+use crate::collide::narrow_phase::Manifold;
 use crate::collide::Collider;
 use crate::integrate::free_rotation::flow_one;
 use crate::body::Bodies;

@@ -1,7 +1,8 @@
 //! Contact constraints built once per step from the narrow phase's manifolds:
 //! anchors, normal and tangent basis, effective masses; and the bookkeeping
-//! around the solve (solver bodies, warm start, totals for reporting, data kept
-//! for next step).
+//! around the solve (totals for reporting, data kept for next step). The warm
+//! start is in [`super::warm_start`], the refresh of the arms as the bodies
+//! move in [`super::refresh`].
 //!
 //! Anchors are fixed at the step start; the separation is updated during the
 //! substeps from how far each body has moved and turned since (as in Box2D v3),
@@ -201,7 +202,7 @@ pub struct Constraint {
     /// `super::support::unequal`): no arm crosses the normal, a normal impulse
     /// moves the bodies' centres only, and between two balls the normal is
     /// their line of centres, taken again whenever they move within the step
-    /// (see [`refresh`]), so that the impulse keeps angular momentum.
+    /// (see `super::refresh::refresh`), so that the impulse keeps angular momentum.
     #[serde(default)]
     pub central: bool,
     /// A side of it is a ball (see `PairContext::radii`): its points, however
@@ -312,50 +313,6 @@ impl ContactSolver {
         }
     }
 
-    /// The warm start's impulses (those of the last substep) scaled by
-    /// `ratio`, the new substep's length over the one they were found for: a
-    /// step that took 16 substeps after steps of 4 applied four substeps'
-    /// support in its first, and the columns of a resting grid of cubes
-    /// jumped to 4e-5 m/s; back to 4, a quarter of it. Ratios within
-    /// round-off of one leave the impulses as they are.
-    pub(crate) fn scale_warm_start(&mut self, ratio: f64) {
-        if (ratio - 1.0).abs() <= 1e-9 || !ratio.is_finite() {
-            return;
-        }
-        self.points.iter_mut().for_each(|p| p.normal_impulse *= ratio);
-        for f in &mut self.patches {
-            f.impulse = [f.impulse[0] * ratio, f.impulse[1] * ratio];
-            f.twist *= ratio;
-        }
-    }
-
-    /// Arms and effective masses of one constraint's points at the current poses.
-    ///
-    /// A corner of one body (a box's, a top's tip: see [`Corners`]) is a material
-    /// point: it turns with that body. Any other contact point moves with the
-    /// bodies' translations weighted by their inverse masses: it stays under a
-    /// sphere sliding on the ground and follows a box across it (following the
-    /// material point would tilt a sliding sphere's arm and spin it up without
-    /// friction). Both arms end at the same point, so equal and opposite impulses
-    /// keep angular momentum exactly.
-    pub(crate) fn refresh_constraint(&mut self, ci: usize) {
-        let c = &mut self.constraints[ci];
-        let range = c.start as usize..(c.start + c.len) as usize;
-        refresh(c, (&mut self.patches[ci], &mut self.shapes[ci]), &mut self.points[range], &self.bodies);
-        let (lower, group) = (c.lower, c.group);
-        if lower != 0 {
-            self.support.touch(group);
-        }
-    }
-
-    /// The patch of constraint `ci` at its points' current arms, keeping its
-    /// impulses and state.
-    pub(crate) fn refresh_patch(&mut self, ci: usize) {
-        let c = &mut self.constraints[ci];
-        let range = c.start as usize..(c.start + c.len) as usize;
-        refresh_patch_of(c, (&mut self.patches[ci], &mut self.shapes[ci]), &self.points[range], &self.bodies);
-    }
-
     /// Applies a normal impulse `j` (N·s) at the point.
     pub fn apply_normal(&mut self, c: &Constraint, p: &Point, j: f64) {
         let mut pair = Pair::load(&self.bodies, c);
@@ -369,64 +326,6 @@ impl ContactSolver {
 
     pub fn separation(&self, c: &Constraint, p: &Point) -> f64 {
         Gap::new(&self.bodies, c).separation(p)
-    }
-
-    /// Re-applies the impulses of the previous substep (or step) and adds the
-    /// previous substep's to the step totals.
-    pub fn warm_start(&mut self) {
-        self.remember_before_warm();
-        let first = self.substeps_done == 0;
-        self.substeps_done += 1;
-        if self.by_groups() {
-            if !first {
-                self.constraints.iter_mut().for_each(|c| c.fresh = false);
-            }
-            return self.warm_start_by_groups(first);
-        }
-        if let Some(h) = self.by_halves() {
-            self.each_half(h, |cs, r| {
-                cs.warm_range(r, first);
-                false
-            });
-            return;
-        }
-        self.warm_all(first);
-    }
-
-    /// The warm start of every constraint, in order (one loop with [`warm`]
-    /// inlined: called per constraint, the ball pit stepped 1.5 % slower).
-    #[inline(never)]
-    fn warm_all(&mut self, first: bool) {
-        let (points, patches, bodies) = (&mut self.points, &mut self.patches, &mut self.bodies);
-        for (c, f) in self.constraints.iter_mut().zip(patches.iter_mut()) {
-            c.fresh &= first;
-            warm(c, points, f, bodies, first);
-        }
-    }
-
-    /// The warm start of constraint `ci` (see [`warm`]), for the
-    /// group-by-group warm start (`super::contact_groups`).
-    #[inline(never)]
-    pub(crate) fn warm_one(&mut self, ci: usize, first: bool) {
-        if let (Some(c), Some(f)) = (self.constraints.get(ci), self.patches.get_mut(ci)) {
-            warm(c, &mut self.points, f, &mut self.bodies, first);
-        }
-    }
-
-    /// The warm start of the constraints `range`, in order (see [`warm`]):
-    /// one loop with `warm` inlined, as [`Self::warm_all`], for the halves
-    /// of a split step (see `super::seams`).
-    #[inline(never)]
-    pub(crate) fn warm_range(&mut self, range: std::ops::Range<usize>, first: bool) {
-        let (points, patches, bodies) = (&mut self.points, &mut self.patches, &mut self.bodies);
-        let (Some(cs), Some(fs)) = (self.constraints.get_mut(range.clone()), patches.get_mut(range)) else { return };
-        // Each thread marks its own half's constraints as warm started (a pass
-        // over all of them on the stepping thread left their lines in its
-        // cache for the helper to fetch back).
-        for (c, f) in cs.iter_mut().zip(fs) {
-            c.fresh &= first;
-            warm(c, points, f, bodies, first);
-        }
     }
 
     /// Ends the step: adds the last substep to the totals and keeps the impulses
@@ -526,101 +425,6 @@ impl ContactSolver {
         }
         out
     }
-}
-
-/// [`ContactSolver::refresh_constraint`] of constraint `c`, its patch and its
-/// points, on the solver bodies `bodies` (the touch of its block left to the
-/// caller).
-pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), points: &mut [Point], bodies: &[SolverBody]) {
-    let (b1, b2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
-    if c.central && c.s1 != 0 && c.s2 != 0 {
-        if let [p] = points.as_mut() {
-            line_of_centres(c, p, (b1, b2));
-        }
-    }
-    let normal = c.normal;
-    let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
-    let (dp1, dp2) = (b1.dp, b2.dp);
-    let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
-    for p in points.iter_mut() {
-        // Both anchors start at one world point: x1 + a1 = x2 + a2. A corner
-        // turns with its body; a rounded surface's point goes where the surface
-        // is nearest the other body (a disk nutating on its rim: see
-        // `Rounding`); any other point follows the translations.
-        let turned1 = if p.corner == 1 { Some(quat::rotate(&b1.dq, &p.anchor1)) } else { b1.rounded_arm(p, 1, &normal) };
-        let turned2 = if p.corner == 2 { Some(quat::rotate(&b2.dq, &p.anchor2)) } else { b2.rounded_arm(p, 2, &normal) };
-        // A corner first, then body 2's rounded surface, then body 1's.
-        (p.r1, p.r2) = match (p.corner, turned1, turned2) {
-            (1, Some(r1), _) | (_, Some(r1), None) => (r1, p.anchor2 + (dp1 + r1 - p.anchor1) - dp2),
-            (_, _, Some(r2)) => (p.anchor1 + (dp2 + r2 - p.anchor2) - dp1, r2),
-            _ => (p.anchor1 + shift - dp1, p.anchor2 + shift - dp2),
-        };
-        // A central point's mass does not depend on its arms: kept as built.
-        if !c.central {
-            normal_mass(p, (b1, b2), &normal, false);
-        }
-    }
-    refresh_patch_of(c, patch, points, bodies);
-}
-
-/// The normal of a contact between two balls along the line of their
-/// centres as they have moved (`dp`), its tangents carried along with it,
-/// and the point's separation the distance of their surfaces. An impulse
-/// along the step start's normal through both centres would turn their
-/// angular momentum about any point once the centres have moved across it
-/// (two balls colliding off centre lost 7.5e-4 of it).
-fn line_of_centres(c: &mut Constraint, p: &mut Point, (b1, b2): (&SolverBody, &SolverBody)) {
-    let start = p.anchor1 - p.anchor2;
-    let d = start + (b2.dp - b1.dp);
-    let len = d.norm();
-    if !(len > 0.0) {
-        return;
-    }
-    // Reciprocals: three divisions each sat on the refresh's chain.
-    let n = d * (1.0 / len);
-    let radii = start.norm() - p.separation;
-    let t = c.t1 - n * n.dot(&c.t1);
-    let t1 = if t.norm_squared() > 0.25 { t * (1.0 / t.norm()) } else { orthonormal(&n) };
-    (c.normal, c.t1, c.t2) = (n, t1, n.cross(&t1));
-    // As `Gap::separation` reads it, with a ball's anchors unturned.
-    p.base_separation = (len - radii) - n.dot(&(b2.dp - b1.dp)) - n.dot(&p.anchor2) + n.dot(&p.anchor1);
-}
-
-/// The patch of constraint `c` at its points' current arms, keeping its
-/// impulses and state.
-fn refresh_patch_of(c: &mut Constraint, (patch, shape): (&mut Patch, &mut PatchShape), points: &[Point], bodies: &[SolverBody]) {
-    c.as_built = false;
-    patch.set_geometry(shape, c, points, bodies);
-}
-
-/// The warm start of constraint `c` with patch `f` (`first`: the step's
-/// first substep, whose impulses are not added to the totals): last
-/// substep's impulses applied again.
-#[inline(always)]
-fn warm(c: &Constraint, points: &mut [Point], f: &mut Patch, bodies: &mut [SolverBody], first: bool) {
-    let mut pair = Pair::load(bodies, c);
-    let mut settled = 0.0;
-    for p in &mut points[c.start as usize..(c.start + c.len) as usize] {
-        if !first {
-            p.total_normal += p.normal_impulse;
-        }
-        settled += p.normal_impulse;
-        if c.central {
-            pair.apply_central(c, p.normal_impulse);
-        } else {
-            pair.apply_normal(c, p, p.normal_impulse);
-        }
-    }
-    f.settled = settled;
-    if !first {
-        f.total[0] += f.impulse[0];
-        f.total[1] += f.impulse[1];
-    }
-    pair.apply_patch(c, f, f.impulse);
-    if f.twist != 0.0 {
-        pair.apply_twist(f, f.twist);
-    }
-    pair.store(bodies, c);
 }
 
 /// Arms across the normal and the effective mass of a point; a `central`

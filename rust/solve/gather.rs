@@ -2,7 +2,8 @@
 //! pose changes, inverse inertias) and scattered back after, and the refresh
 //! of the contact arms of the bodies that moved.
 
-use super::contact::{refresh, Constraint, ContactSolver};
+use super::contact::{Constraint, ContactSolver};
+use super::refresh::refresh;
 use super::solver_body::{chord, SolverBody, Surface};
 use crate::body::Bodies;
 use crate::math::{quat, Quat, Vec3};

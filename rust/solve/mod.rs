@@ -29,6 +29,8 @@ pub(crate) mod team;
 pub mod soft;
 pub mod solver_body;
 pub mod pair;
+pub mod refresh;
+pub mod warm_start;
 pub mod gather;
 pub mod warm_guard;
 pub mod release;

@@ -1,0 +1,102 @@
+//! The refresh of a constraint: its points' arms, a ball contact's line of
+//! centres and its patch brought up to the bodies' moves within the step.
+
+use super::contact::{normal_mass, orthonormal, Constraint, ContactSolver, Point};
+use super::friction::Patch;
+use super::limit_surface::PatchShape;
+use super::solver_body::SolverBody;
+use crate::math::quat;
+
+impl ContactSolver {
+    /// Arms and effective masses of one constraint's points at the current poses.
+    ///
+    /// A corner of one body (a box's, a top's tip: see [`Corners`]) is a material
+    /// point: it turns with that body. Any other contact point moves with the
+    /// bodies' translations weighted by their inverse masses: it stays under a
+    /// sphere sliding on the ground and follows a box across it (following the
+    /// material point would tilt a sliding sphere's arm and spin it up without
+    /// friction). Both arms end at the same point, so equal and opposite impulses
+    /// keep angular momentum exactly.
+    pub(crate) fn refresh_constraint(&mut self, ci: usize) {
+        let c = &mut self.constraints[ci];
+        let range = c.start as usize..(c.start + c.len) as usize;
+        refresh(c, (&mut self.patches[ci], &mut self.shapes[ci]), &mut self.points[range], &self.bodies);
+        let (lower, group) = (c.lower, c.group);
+        if lower != 0 {
+            self.support.touch(group);
+        }
+    }
+
+    /// The patch of constraint `ci` at its points' current arms, keeping its
+    /// impulses and state.
+    pub(crate) fn refresh_patch(&mut self, ci: usize) {
+        let c = &mut self.constraints[ci];
+        let range = c.start as usize..(c.start + c.len) as usize;
+        refresh_patch_of(c, (&mut self.patches[ci], &mut self.shapes[ci]), &self.points[range], &self.bodies);
+    }
+}
+
+/// [`ContactSolver::refresh_constraint`] of constraint `c`, its patch and its
+/// points, on the solver bodies `bodies` (the touch of its block left to the
+/// caller).
+pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), points: &mut [Point], bodies: &[SolverBody]) {
+    let (b1, b2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+    if c.central && c.s1 != 0 && c.s2 != 0 {
+        if let [p] = points.as_mut() {
+            line_of_centres(c, p, (b1, b2));
+        }
+    }
+    let normal = c.normal;
+    let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
+    let (dp1, dp2) = (b1.dp, b2.dp);
+    let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
+    for p in points.iter_mut() {
+        // Both anchors start at one world point: x1 + a1 = x2 + a2. A corner
+        // turns with its body; a rounded surface's point goes where the surface
+        // is nearest the other body (a disk nutating on its rim: see
+        // `Rounding`); any other point follows the translations.
+        let turned1 = if p.corner == 1 { Some(quat::rotate(&b1.dq, &p.anchor1)) } else { b1.rounded_arm(p, 1, &normal) };
+        let turned2 = if p.corner == 2 { Some(quat::rotate(&b2.dq, &p.anchor2)) } else { b2.rounded_arm(p, 2, &normal) };
+        // A corner first, then body 2's rounded surface, then body 1's.
+        (p.r1, p.r2) = match (p.corner, turned1, turned2) {
+            (1, Some(r1), _) | (_, Some(r1), None) => (r1, p.anchor2 + (dp1 + r1 - p.anchor1) - dp2),
+            (_, _, Some(r2)) => (p.anchor1 + (dp2 + r2 - p.anchor2) - dp1, r2),
+            _ => (p.anchor1 + shift - dp1, p.anchor2 + shift - dp2),
+        };
+        // A central point's mass does not depend on its arms: kept as built.
+        if !c.central {
+            normal_mass(p, (b1, b2), &normal, false);
+        }
+    }
+    refresh_patch_of(c, patch, points, bodies);
+}
+
+/// The normal of a contact between two balls along the line of their
+/// centres as they have moved (`dp`), its tangents carried along with it,
+/// and the point's separation the distance of their surfaces. An impulse
+/// along the step start's normal through both centres would turn their
+/// angular momentum about any point once the centres have moved across it
+/// (two balls colliding off centre lost 7.5e-4 of it).
+fn line_of_centres(c: &mut Constraint, p: &mut Point, (b1, b2): (&SolverBody, &SolverBody)) {
+    let start = p.anchor1 - p.anchor2;
+    let d = start + (b2.dp - b1.dp);
+    let len = d.norm();
+    if !(len > 0.0) {
+        return;
+    }
+    // Reciprocals: three divisions each sat on the refresh's chain.
+    let n = d * (1.0 / len);
+    let radii = start.norm() - p.separation;
+    let t = c.t1 - n * n.dot(&c.t1);
+    let t1 = if t.norm_squared() > 0.25 { t * (1.0 / t.norm()) } else { orthonormal(&n) };
+    (c.normal, c.t1, c.t2) = (n, t1, n.cross(&t1));
+    // As `Gap::separation` reads it, with a ball's anchors unturned.
+    p.base_separation = (len - radii) - n.dot(&(b2.dp - b1.dp)) - n.dot(&p.anchor2) + n.dot(&p.anchor1);
+}
+
+/// The patch of constraint `c` at its points' current arms, keeping its
+/// impulses and state.
+fn refresh_patch_of(c: &mut Constraint, (patch, shape): (&mut Patch, &mut PatchShape), points: &[Point], bodies: &[SolverBody]) {
+    c.as_built = false;
+    patch.set_geometry(shape, c, points, bodies);
+}

@@ -5,6 +5,14 @@
 //! it and compiles a [`world::World`]: struct-of-arrays state plus the pipeline of
 //! stages that this scene needs, and nothing else.
 
+// `!(x > 0.0)` is how this crate says "not a positive number, NaN included":
+// a bad input or a diverged state must fail such checks, which `x <= 0.0`
+// would let through.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// The numeric kernels index several arrays in step (`v[i] += h * a[i]`): one
+// index reads as the formula does, where zipped iterators would not.
+#![allow(clippy::needless_range_loop)]
+
 #[macro_use]
 mod clone_in_place;
 

@@ -123,7 +123,7 @@ pub fn sweep(b: &mut Bodies, ci: usize, colliders: &[Collider], boxes: &[Aabb], 
             }
         };
         if let Some(t) = hit {
-            if t < 1.0 && first.map_or(true, |f| t < f) {
+            if t < 1.0 && first.is_none_or(|f| t < f) {
                 first = Some(t);
             }
         }

@@ -42,7 +42,7 @@ impl ContactSolver {
 pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), points: &mut [Point], bodies: &[SolverBody]) {
     let (b1, b2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
     if c.central && c.s1 != 0 && c.s2 != 0 {
-        if let [p] = points.as_mut() {
+        if let [p] = &mut *points {
             line_of_centres(c, p, (b1, b2));
         }
     }

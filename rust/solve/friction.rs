@@ -17,7 +17,7 @@ use super::contact::{Constraint, ContactSolver, Point};
 use super::impulse::{close_gaps, Rule};
 use super::limit_surface::{inside, norm2, onto, PatchShape};
 use super::pair::Pair;
-use super::solver_body::{Gap, SolverBody};
+use super::solver_body::{Gap, SolverBody, Surface};
 use crate::math::Vec3;
 
 /// Slip speed (m/s) below which a sliding patch's friction keeps the direction of
@@ -142,6 +142,13 @@ impl Patch {
     /// the points' current arms, keeping the impulses and regime.
     pub fn set_geometry(&mut self, shape: &mut PatchShape, c: &Constraint, points: &[Point], bodies: &[SolverBody]) {
         let (a1, a2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
+        if let (Some(iso), [p]) = (ball_pair(a1, a2), points) {
+            if p.corner == 0 {
+                *shape = PatchShape::default();
+                self.lever = shape.lever;
+                return self.set_ball_geometry(c, (&p.r1, &p.r2), (a1.inv_m + a2.inv_m, iso.0, iso.1));
+            }
+        }
         let f = self;
         let (r1, r2) = if points.len() == 1 {
             // One point (a ball's) is its own patch, with no lever.
@@ -178,6 +185,33 @@ impl Patch {
             let [p, q, r] = f.tangent_mass;
             [p, q, 0.0, r, 0.0, 0.0]
         };
+    }
+
+    /// [`Self::set_geometry`] of a one-point patch whose bodies have
+    /// isotropic inverse inertias `s1`, `s2`, inverse masses summing to `m`,
+    /// and no chord gap (two balls: see `refresh::refresh_balls`), with the
+    /// same arithmetic and bits; its lever and shape (none) are left as built.
+    #[inline(always)]
+    pub(crate) fn set_ball_geometry(&mut self, c: &Constraint, (r1, r2): (&Vec3, &Vec3), (m, s1, s2): (f64, f64, f64)) {
+        let f = self;
+        for (k, t) in [c.t1, c.t2].iter().enumerate() {
+            f.rt1[k] = r1.cross(t);
+            f.rt2[k] = r2.cross(t);
+            f.irt1[k] = f.rt1[k] * s1;
+            f.irt2[k] = f.rt2[k] * s2;
+        }
+        let gap = Vec3::zeros();
+        f.drift = [c.t1.dot(&gap), c.t2.dot(&gap)];
+        f.in1 = c.normal * s1;
+        f.in2 = c.normal * s2;
+        let k_spin = c.normal.dot(&f.in1) + c.normal.dot(&f.in2);
+        f.spin_mass = if k_spin > 0.0 { 1.0 / k_spin } else { 0.0 };
+        let k = |a: usize, b: usize, ta: &Vec3, tb: &Vec3| m * ta.dot(tb) + f.rt1[a].dot(&f.irt1[b]) + f.rt2[a].dot(&f.irt2[b]);
+        let (a, b, cc) = (k(0, 0, &c.t1, &c.t1), k(0, 1, &c.t1, &c.t2), k(1, 1, &c.t2, &c.t2));
+        let det = a * cc - b * b;
+        f.tangent_mass = if det > 0.0 { [cc / det, -b / det, a / det] } else { [0.0; 3] };
+        let [p, q, r] = f.tangent_mass;
+        f.friction_mass = [p, q, 0.0, r, 0.0, 0.0];
     }
 
     /// The friction force and twist after one solve, within the limit of normal
@@ -436,6 +470,17 @@ impl ContactSolver {
 pub(crate) struct FrictionPass {
     pub closing: Option<Rule>,
     pub rate: f64,
+}
+
+/// The isotropic inverse inertias of two balls, whose one-point patches
+/// take [`Patch::set_ball_geometry`].
+#[inline(always)]
+pub(crate) fn ball_pair(a1: &SolverBody, a2: &SolverBody) -> Option<(f64, f64)> {
+    let ball = |b: &SolverBody| b.surface == Surface::Ball;
+    match (a1.iso, a2.iso) {
+        (Some(s1), Some(s2)) if ball(a1) && ball(a2) => Some((s1, s2)),
+        _ => None,
+    }
 }
 
 /// [`rub`] for the patches of the constraints `list`, in order: the one

@@ -2,7 +2,7 @@
 //! centres and its patch brought up to the bodies' moves within the step.
 
 use super::contact::{normal_mass, orthonormal, Constraint, ContactSolver, Point};
-use super::friction::Patch;
+use super::friction::{ball_pair, Patch};
 use super::limit_surface::PatchShape;
 use super::solver_body::SolverBody;
 use crate::math::quat;
@@ -43,6 +43,9 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
     let (b1, b2) = (&bodies[c.s1 as usize], &bodies[c.s2 as usize]);
     if c.central && c.s1 != 0 && c.s2 != 0 {
         if let [p] = &mut *points {
+            if let (Some(iso), 0) = (ball_pair(b1, b2), p.corner) {
+                return refresh_balls(c, patch.0, p, (b1, b2), iso);
+            }
             line_of_centres(c, p, (b1, b2));
         }
     }
@@ -69,6 +72,24 @@ pub(crate) fn refresh(c: &mut Constraint, patch: (&mut Patch, &mut PatchShape), 
         }
     }
     refresh_patch_of(c, patch, points, bodies);
+}
+
+/// [`refresh`] of a contact between two balls (one point, isotropic
+/// inverse inertias `s1`, `s2`), with the same arithmetic and bits: a ball's
+/// point neither turns with it nor follows a rounded surface, and its chord
+/// gap is zero, so its arms follow the translations, and its patch (one
+/// point's: no lever, no shape) needs no polygon, no turned inertia and no
+/// chord. A settling pit refreshes every ball contact at every substep
+/// (11 500 a step for 1000 balls), and the general path's dispatch was 5 %
+/// of the instructions of the pit's first 150 steps.
+fn refresh_balls(c: &mut Constraint, patch: &mut Patch, p: &mut Point, (b1, b2): (&SolverBody, &SolverBody), (s1, s2): (f64, f64)) {
+    line_of_centres(c, p, (b1, b2));
+    let (w1, w2) = if b1.inv_m + b2.inv_m > 0.0 { (b1.inv_m, b2.inv_m) } else { (1.0, 1.0) };
+    let (dp1, dp2) = (b1.dp, b2.dp);
+    let shift = (dp1 * w1 + dp2 * w2) / (w1 + w2);
+    (p.r1, p.r2) = (p.anchor1 + shift - dp1, p.anchor2 + shift - dp2);
+    c.as_built = false;
+    patch.set_ball_geometry(c, (&p.r1, &p.r2), (b1.inv_m + b2.inv_m, s1, s2));
 }
 
 /// The normal of a contact between two balls along the line of their

@@ -38,7 +38,10 @@ const MAGIC: &[u8; 8] = b"RIGIDRS\0";
 /// read them.
 /// 16: whether the last step's contacts could be laid out in halves (see
 /// `solve::seams`).
-pub const FORMAT_VERSION: u32 = 16;
+/// 17: a contact point's impulses, mass and anchors first, a constraint's `fresh`
+/// and `central` in its first two cache lines,
+/// its restitution after them.
+pub const FORMAT_VERSION: u32 = 17;
 pub const ENGINE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Longest engine version string accepted (a guard against reading garbage).
 const MAX_VERSION_LEN: usize = 64;

@@ -1,6 +1,7 @@
 //! Collision detection: colliders, the broad phase (sweep and prune in columns), the narrow
 //! phase (parry's persistent contact manifolds) and continuous collision detection.
 
+mod approach;
 pub mod broad_phase;
 pub mod ccd;
 mod coincident_points;

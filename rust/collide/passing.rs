@@ -17,7 +17,8 @@ use parry3d_f64::query::{cast_shapes, ShapeCastOptions};
 use parry3d_f64::shape::ShapeType;
 
 use super::collider::Collider;
-use super::narrow_phase::{Approach, Prediction};
+use super::approach::Approach;
+use super::narrow_phase::Prediction;
 use crate::body::Bodies;
 
 /// A pair is swept only when its travel in the step exceeds this many margins:

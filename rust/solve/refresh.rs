@@ -101,14 +101,19 @@ fn refresh_balls(c: &mut Constraint, patch: &mut Patch, p: &mut Point, (b1, b2):
 fn line_of_centres(c: &mut Constraint, p: &mut Point, (b1, b2): (&SolverBody, &SolverBody)) {
     let start = p.anchor1 - p.anchor2;
     let d = start + (b2.dp - b1.dp);
-    let len = d.norm();
-    if !(len > 0.0) {
+    let dd = d.norm_squared();
+    if !(dd > 0.0) {
         return;
     }
-    // Reciprocals: three divisions each sat on the refresh's chain.
+    // Reciprocals: three divisions each sat on the refresh's chain. The
+    // tangent is projected off `d` itself, not off `n`: its square root
+    // and division then run beside the normal's, not after them (the
+    // chain of a refresh was longer than the refresh, in a settling pit
+    // whose every ball contact is refreshed every substep).
+    let len = dd.sqrt();
     let n = d * (1.0 / len);
     let radii = start.norm() - p.separation;
-    let t = c.t1 - n * n.dot(&c.t1);
+    let t = c.t1 - d * (d.dot(&c.t1) / dd);
     let t1 = if t.norm_squared() > 0.25 { t * (1.0 / t.norm()) } else { orthonormal(&n) };
     (c.normal, c.t1, c.t2) = (n, t1, n.cross(&t1));
     // As `Gap::separation` reads it, with a ball's anchors unturned.

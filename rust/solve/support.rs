@@ -156,6 +156,11 @@ pub struct Support {
     pub rocking: super::rocking::Rocking,
     /// The rest depth (m) the blocks' bounds were found for (see `super::quiet`).
     pub bound_rest: f64,
+    /// Per island: the last velocity pass of this step overshot it, so the
+    /// next one passes Gauss–Seidel over it instead of sweeping (see
+    /// `super::overshoot`). Cleared with each step's plan.
+    #[serde(skip)]
+    pub(crate) overshot: Vec<bool>,
 }
 
 impl Support {
@@ -188,6 +193,7 @@ impl ContactSolver {
         s.blocks.clear();
         s.faces.clear();
         s.rows.clear();
+        s.overshot.clear();
         if gravity <= 0.0 || self.constraints.is_empty() {
             self.ordinary.extend(0..self.constraints.len() as u32);
             self.support.islands = 0;
@@ -446,7 +452,9 @@ impl ContactSolver {
     }
 
     /// The two sweeps over the blocks, then the fraction of their change that
-    /// leaves the least violation, per island (see [`Self::sweep_steps`]).
+    /// leaves the least violation, per island (see [`Self::sweep_steps`]);
+    /// Gauss–Seidel instead of the sweeps where the last velocity pass
+    /// overshot (see `super::overshoot`).
     pub(crate) fn sweep_supports(&mut self, rule: &Rule) {
         if self.support.blocks.is_empty() {
             return;
@@ -477,9 +485,13 @@ impl ContactSolver {
         s.paid.resize(self.bodies.len(), 0);
         s.start_lambda.resize(s.rows.len(), 0.0);
         let active: Vec<u32> = (0..s.islands as u32).filter(|&i| s.active.get(i as usize) == Some(&true)).collect();
+        let (active, overshot) = self.set_overshot_aside(active, rule);
         self.in_islands(&active, |cs, i, sw| cs.sweep_island(i, sw));
         if !self.support.solved.is_empty() {
             self.take_back_overshoot(&active, rule);
+        }
+        if !overshot.is_empty() {
+            self.in_islands(&overshot, |cs, i, _| cs.island_gauss_seidel(i, rule));
         }
         if !rule.relax {
             self.record_changes();

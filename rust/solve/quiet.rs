@@ -109,7 +109,10 @@ impl ContactSolver {
             if !active[b.island as usize] {
                 continue;
             }
-            if !set {
+            // An island the last velocity pass overshot gets Gauss–Seidel
+            // alone in this one (see `super::overshoot`), which reads no target.
+            let overshot = !rule.relax && self.support.overshot.get(b.island as usize) == Some(&true);
+            if !set && !overshot {
                 self.block_targets(g, rule);
             }
             if rule.relax {

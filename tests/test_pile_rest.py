@@ -16,8 +16,11 @@ from test_pile_launch import lattice
 POURS = range(1, 9)
 
 PILES_CREEP = (
-    "tumbled piles do not all come to rest: after 30 s at the defaults 0 / 0 / 0 / 0 / 7 / 1 / 1 / 0 "
-    "cubes of pours 1-8 move faster than 1 mm/s (fastest 1.9e-9 / 9.9e-12 / 1.1e-12 / 2.7e-10 / "
+    "tumbled piles do not all come to rest: after 30 s at the defaults 0 / 0 / 0 / 0 / 7 / 0 / 0 / 0 "
+    "cubes of pours 1-8 move faster than 1 mm/s (fastest 1.9e-12 / 2.0e-12 / 5.2e-4 / 0 / 4.7e-3 / "
+    "9.7e-4 / 1.7e-9 / 2.0e-9 m/s), since an island whose sweeps overshot gets Gauss-Seidel alone in "
+    "the next velocity pass (rust/solve/overshoot.rs, remedy 3; stop 61). Before: 0 / 0 / 0 / 0 / 7 / 1 / 1 / 0 "
+    "(fastest 1.9e-9 / 9.9e-12 / 1.1e-12 / 2.7e-10 / "
     "2.9e-3 / 1.2e-3 / 1.2e-3 / 1.9e-12 m/s), since the exact face solves multiply by the reciprocals "
     "of their factor's diagonal (small_lcp.rs: other round-off). The driver, found at stop 53: from the "
     "creeping state at 30 s, the same 10 s without the support blocks' position pass (position.rs) move "

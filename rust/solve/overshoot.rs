@@ -76,10 +76,10 @@ impl ContactSolver {
     pub(super) fn set_overshot_aside(&mut self, active: Vec<u32>, rule: &Rule) -> (Vec<u32>, Vec<u32>) {
         let s = &mut self.support;
         s.overshot.resize(s.islands, false);
-        if rule.relax {
+        if rule.relax || !s.overshot.contains(&true) {
             return (active, Vec::new());
         }
-        let (overshot, sweep): (Vec<u32>, Vec<u32>) = active.into_iter().partition(|&i| s.overshot[i as usize]);
+        let (overshot, sweep): (Vec<u32>, Vec<u32>) = active.into_iter().partition(|&i| s.skips_sweeps(i as usize, rule));
         for &i in &overshot {
             s.overshot[i as usize] = false;
         }

@@ -111,8 +111,7 @@ impl ContactSolver {
             }
             // An island the last velocity pass overshot gets Gauss–Seidel
             // alone in this one (see `super::overshoot`), which reads no target.
-            let overshot = !rule.relax && self.support.overshot.get(b.island as usize) == Some(&true);
-            if !set && !overshot {
+            if !set && !self.support.skips_sweeps(b.island as usize, rule) {
                 self.block_targets(g, rule);
             }
             if rule.relax {

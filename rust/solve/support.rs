@@ -169,6 +169,12 @@ impl Support {
         self.residual / RESIDUAL
     }
 
+    /// Whether island `i` gets Gauss–Seidel alone in this pass, a velocity
+    /// pass after one that overshot it (see `super::overshoot`).
+    pub(crate) fn skips_sweeps(&self, i: usize, rule: &super::impulse::Rule) -> bool {
+        !rule.relax && self.overshot.get(i) == Some(&true)
+    }
+
     /// Marks block `g` for reassembly (a body of it moved).
     pub fn touch(&mut self, g: u32) {
         if let Some(b) = self.blocks.get_mut(g as usize) {
